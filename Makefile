@@ -1,0 +1,101 @@
+# lancer: liblancer.a (the C core), the Lua module and the lancer command.
+#   make          build everything under build/
+#   make demo     install missing Debian packages, build, render the showcase
+#   make test     install missing Debian packages, build, run every test
+#   make SAN=1    add address and undefined-behaviour sanitizers
+
+CC      ?= cc
+BUILD   ?= build
+PKGS    := lua5.4 libpng
+WARN    := -Wall -Wextra -Wshadow -Wundef -Wwrite-strings -Wstrict-prototypes \
+           -Wmissing-prototypes -Wvla
+# -ffp-contract=off: a fused a*b-c*d breaks the exact sign symmetry the
+# robust geometry relies on (NUMERICS.md 1.12). Never -ffast-math.
+CFLAGS  ?= -O2 -g
+CFLAGS  += -std=c99 $(WARN) -ffp-contract=off -fPIC -pthread -D_POSIX_C_SOURCE=200809L
+CPPFLAGS += -MMD -MP
+ifeq ($(SAN),1)
+CFLAGS  += -fsanitize=address,undefined -fno-omit-frame-pointer
+LDFLAGS += -fsanitize=address,undefined
+endif
+
+LUA_CFLAGS := $(shell pkg-config --cflags lua5.4 2>/dev/null)
+LUA_LIBS   := $(shell pkg-config --libs lua5.4 2>/dev/null)
+PNG_CFLAGS := $(shell pkg-config --cflags libpng 2>/dev/null)
+PNG_LIBS   := $(shell pkg-config --libs libpng 2>/dev/null)
+EDIT_CFLAGS := $(shell pkg-config --cflags libedit 2>/dev/null)
+EDIT_LIBS   := $(shell pkg-config --libs libedit 2>/dev/null)
+CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
+
+# The C core: no Lua header in any of these.
+CORE_SRC := $(filter-out src/lua_%.c src/main.c,$(wildcard src/*.c))
+CORE_OBJ := $(CORE_SRC:src/%.c=$(BUILD)/obj/%.o)
+LUA_SRC  := $(wildcard src/lua_*.c)
+LUA_OBJ  := $(LUA_SRC:src/%.c=$(BUILD)/obj/%.o)
+LUA_FILES := $(wildcard lua/lancer/*.lua)
+
+LIB    := $(BUILD)/liblancer.a
+MODULE := $(BUILD)/lancer/core.so
+BIN    := $(BUILD)/bin/lancer
+C_TESTS := $(patsubst tests/c/%.c,$(BUILD)/tests/%,$(wildcard tests/c/test_*.c))
+
+.PHONY: all demo test check bench clean install-deps
+all: $(LIB) $(MODULE) $(BIN)
+
+$(BUILD)/obj/%.o: src/%.c
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) -c $< -o $@
+
+$(BUILD)/obj/lua_%.o: src/lua_%.c
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(LUA_CFLAGS) -c $< -o $@
+
+$(LIB): $(CORE_OBJ)
+	@mkdir -p $(@D)
+	rm -f $@ && $(AR) rcs $@ $^
+
+# The module links no liblua: the lua5.4 binary exports the Lua API itself.
+$(MODULE): $(LUA_OBJ) $(LIB)
+	@mkdir -p $(@D)
+	$(CC) -shared $(LDFLAGS) -o $@ $(LUA_OBJ) $(LIB) $(PNG_LIBS) -lm -pthread
+
+# The host embeds lua/lancer/*.lua so it runs from anywhere.
+$(BUILD)/gen/lua_embedded.c: $(LUA_FILES) tools/embed-lua.sh
+	@mkdir -p $(@D)
+	sh tools/embed-lua.sh $(LUA_FILES) > $@.tmp && mv $@.tmp $@
+
+$(BUILD)/obj/main.o: src/main.c
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(LUA_CFLAGS) $(EDIT_CFLAGS) -c $< -o $@
+
+$(BUILD)/obj/lua_embedded.o: $(BUILD)/gen/lua_embedded.c
+	$(CC) $(CFLAGS) -c $< -o $@
+
+$(BIN): $(BUILD)/obj/main.o $(BUILD)/obj/lua_embedded.o $(LUA_OBJ) $(LIB)
+	@mkdir -p $(@D)
+	$(CC) $(LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EDIT_LIBS) -lm -pthread
+
+$(BUILD)/tests/%: tests/c/%.c $(LIB)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -Isrc -o $@ $< $(LIB) $(CMOCKA_LIBS) $(PNG_LIBS) -lm -pthread
+
+install-deps:
+	@sh tools/install-deps.sh build
+
+demo:
+	@sh tools/install-deps.sh build
+	@$(MAKE) --no-print-directory all
+	@mkdir -p out
+	$(BIN) scenes/showcase.lua -o out/showcase.png
+
+test:
+	@sh tools/install-deps.sh test
+	@$(MAKE) --no-print-directory check
+
+check: all $(C_TESTS)
+	@sh tests/run.sh $(BUILD)
+
+clean:
+	rm -rf $(BUILD) tests/out
+
+-include $(CORE_OBJ:.o=.d) $(LUA_OBJ:.o=.d) $(BUILD)/obj/main.d $(C_TESTS:=.d)

@@ -1,0 +1,13 @@
+-- lancer: the module people require. The C core's functions are exported
+-- as they are (so errors point at the caller's line); pure-Lua helpers that
+-- need no speed live here beside them.
+local core = require "lancer.core"
+
+local M = {}
+for k, v in pairs(core) do M[k] = v end
+
+-- The command line's --width/--height/--samples land in this one table,
+-- which the core reads at render time.
+M.overrides = core.overrides
+
+return M

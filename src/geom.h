@@ -1,0 +1,71 @@
+/* geom.h: rays, hit records and the prepared shapes the intersectors read. */
+#ifndef LC_GEOM_H
+#define LC_GEOM_H
+
+#include <stdint.h>
+#include "vec.h"
+
+typedef struct {
+    lc_vec3 o, d;      /* origin; unit direction */
+} lc_ray;
+
+typedef struct {
+    double   t;        /* distance along the ray */
+    lc_vec3  p;        /* hit point, on the surface within perr */
+    lc_vec3  perr;     /* per-component bound of p's rounding error */
+    lc_vec3  n;        /* unit geometric normal, outward for solids */
+    int      material;
+    uint32_t shape;    /* index in the scene's shape list */
+} lc_hit;
+
+/* Prepared shapes: what compile derives once so a hit test does no setup. */
+typedef struct {
+    lc_vec3 c;
+    double  r;
+} sphere_geom;
+
+typedef struct {
+    lc_vec3 q, u, v;   /* corner, edges */
+    lc_vec3 n;         /* u x v, not normalised */
+    lc_vec3 w;         /* n / (n.n): the dual basis for (alpha, beta) */
+    lc_vec3 un;        /* unit normal */
+    double  k;         /* n.q */
+    int     axis;      /* 0..2 when n is along an axis (exact snapping), else -1 */
+} quad_geom;
+
+typedef struct {
+    lc_vec3 q;         /* corner */
+    lc_vec3 row[3];    /* rows of the inverse edge matrix: local = row . (x - q) */
+    lc_vec3 un[3];     /* unit outward normal of the face where local coord i = 1 */
+    double  lo[3], hi[3];  /* axis-aligned boxes: exact face coordinates */
+    int     aligned;   /* edges along the axes: slabs in world space, exact snaps */
+} box_geom;
+
+typedef struct {
+    lc_vec3 n;         /* unit normal */
+    lc_vec3 p;         /* a point on it */
+    double  k;         /* n.p */
+    int     axis;      /* 0..2 when n is along an axis, else -1 */
+} plane_geom;
+
+/* Each fills *h and returns 1 for the nearest hit with tmin < t < tmax,
+** else returns 0 and leaves *h untouched. */
+int sphere_hit(const sphere_geom *s, const lc_ray *r, double tmin, double tmax, lc_hit *h);
+int quad_hit(const quad_geom *q, const lc_ray *r, double tmin, double tmax, lc_hit *h);
+int box_hit(const box_geom *b, const lc_ray *r, double tmin, double tmax, lc_hit *h);
+int plane_hit(const plane_geom *p, const lc_ray *r, double tmin, double tmax, lc_hit *h);
+
+void sphere_prepare(const lc_shape *s, sphere_geom *g);
+void quad_prepare(const lc_shape *s, quad_geom *g);
+void box_prepare(const lc_shape *s, box_geom *g);
+void plane_prepare(const lc_shape *s, plane_geom *g);
+
+/* Shared by plane and quad: puts p back onto the plane n.x = k. */
+lc_vec3 plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
+                   lc_vec3 *perr);
+
+/* A point just off the surface on the side of w, provably not behind it
+** (pbrt-v4's OffsetRayOrigin). */
+lc_vec3 spawn_origin(const lc_hit *h, lc_vec3 w);
+
+#endif

@@ -1,0 +1,72 @@
+/* image.c: linear floating-point RGB images. */
+#include <math.h>
+#include <stdlib.h>
+#include "error.h"
+#include "image.h"
+
+lc_image *lc_image_new(int width, int height, lc_error *err)
+{
+    if (width < 1 || height < 1 || width > LC_MAX_SIDE || height > LC_MAX_SIDE) {
+        lc_fail(err, LC_EARG, width < 1 || width > LC_MAX_SIDE ? "width" : "height",
+                "image size must be 1..%d per side, got %dx%d", LC_MAX_SIDE, width, height);
+        return NULL;
+    }
+    size_t n = (size_t)width * (size_t)height;      /* both <= 65536: no overflow */
+    if (n > LC_MAX_PIXELS) {
+        lc_fail(err, LC_EARG, "width", "image of %dx%d exceeds %zu pixels",
+                width, height, LC_MAX_PIXELS);
+        return NULL;
+    }
+    lc_image *img = malloc(sizeof *img);
+    float *px = calloc(n * 3, sizeof *px);
+    if (!img || !px) {
+        free(img);
+        free(px);
+        lc_fail(err, LC_ENOMEM, NULL, "out of memory for a %dx%d image", width, height);
+        return NULL;
+    }
+    img->width = width;
+    img->height = height;
+    img->px = px;
+    lc_ok(err);
+    return img;
+}
+
+void lc_image_free(lc_image *img)
+{
+    if (!img)
+        return;
+    free(img->px);
+    free(img);
+}
+
+int lc_image_width(const lc_image *img) { return img->width; }
+int lc_image_height(const lc_image *img) { return img->height; }
+
+lc_color lc_image_get(const lc_image *img, int x, int y)
+{
+    const float *p = img->px + 3 * ((size_t)y * img->width + x);
+    lc_color c = {p[0], p[1], p[2]};
+    return c;
+}
+
+void lc_image_set(lc_image *img, int x, int y, lc_color c)
+{
+    float *p = img->px + 3 * ((size_t)y * img->width + x);
+    p[0] = c.r;
+    p[1] = c.g;
+    p[2] = c.b;
+}
+
+/* Clamped to [0, 1] (NaN reads as 0), encoded, rounded to nearest. */
+uint8_t lc_encode_channel(float linear, lc_encoding enc)
+{
+    double v = linear;
+    if (!(v > 0))
+        return 0;
+    if (v >= 1)
+        return 255;
+    if (enc == LC_ENCODE_SRGB)
+        v = v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
+    return (uint8_t)(v * 255 + 0.5);
+}

@@ -1,0 +1,171 @@
+/* lancer.h: the whole embeddable C API of lancer, a ray tracer. */
+#ifndef LANCER_H
+#define LANCER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define LC_VERSION "0.1.0"
+
+/* ---- Errors --------------------------------------------------------------- */
+
+typedef enum { LC_OK, LC_EARG, LC_ENOMEM, LC_EIO, LC_ECANCEL } lc_status;
+
+/* Every call that can fail fills one of these. `field` names the input field
+** at fault (empty when none); `msg` is a sentence naming the bad value. */
+typedef struct {
+    lc_status code;
+    char field[32];
+    char msg[256];
+} lc_error;
+
+/* ---- Values ---------------------------------------------------------------- */
+
+typedef struct { double x, y, z; } lc_vec3;   /* geometry is double throughout */
+typedef struct { float r, g, b; } lc_color;    /* linear RGB */
+
+/* ---- Materials ------------------------------------------------------------- */
+
+/* What the object's colour multiplies: the seed multiplies the whole sum
+** (coloured mirrors and highlights); POV-Ray and Tachyon colour only the
+** ambient and diffuse terms. */
+typedef enum { LC_ABSORB_ALL, LC_ABSORB_DIFFUSE } lc_absorb;
+
+typedef struct {
+    lc_color  color;     /* C: absorption, every component in [0, 1] */
+    double    ka;        /* ambient coefficient */
+    double    kd;        /* diffuse coefficient (times n.l) */
+    double    kr;        /* mirror reflection coefficient */
+    double    ks;        /* Phong specular coefficient */
+    double    alpha;     /* Phong exponent, >= 0 */
+    lc_color  emission;  /* radiance emitted; > 0 makes the shape a light */
+    lc_absorb absorb;
+} lc_material;
+
+lc_material lc_material_default(void);                  /* white, kd 1, rest 0 */
+lc_status   lc_material_check(const lc_material *m, lc_error *err);
+
+/* ---- Shapes ---------------------------------------------------------------- */
+
+typedef enum { LC_SPHERE, LC_QUAD, LC_BOX, LC_PLANE, LC_SHAPE_KINDS } lc_shape_kind;
+
+typedef struct {
+    lc_shape_kind kind;
+    lc_vec3 p;        /* sphere centre; quad and box corner; plane point */
+    lc_vec3 u, v, w;  /* quad edges u, v; box edges u, v, w; plane normal u */
+    double  radius;   /* sphere only */
+} lc_shape;
+
+lc_status lc_shape_check(const lc_shape *s, lc_error *err); /* sizes, NaN, parallel */
+
+/* ---- Lights and camera ----------------------------------------------------- */
+
+typedef enum { LC_FALLOFF_INVERSE_SQUARE, LC_FALLOFF_NONE } lc_falloff;
+
+typedef struct {
+    lc_vec3    position;
+    lc_color   color;
+    double     intensity;  /* a white kd = 1 surface facing the light at
+                           ** distance d reads intensity / d^2 */
+    lc_falloff falloff;
+} lc_point_light;
+
+lc_status lc_point_light_check(const lc_point_light *l, lc_error *err);
+
+typedef struct {
+    lc_vec3 from, at, up;
+    double  fov;          /* horizontal field of view in degrees, in (0, 180) */
+} lc_camera;
+
+lc_status lc_camera_check(const lc_camera *c, lc_error *err);
+
+/* ---- Scenes ---------------------------------------------------------------- */
+
+typedef struct lc_scene lc_scene;
+
+typedef struct {
+    lc_color background;  /* what a ray that hits nothing sees */
+    lc_color ambient;     /* Ia: ka * C * Ia is added at every hit */
+    int      max_depth;   /* mirror bounces, >= 0; the seed used 3 */
+} lc_settings;
+
+lc_settings lc_settings_default(void);                  /* black, none, 3 */
+
+lc_scene *lc_scene_new(lc_error *err);
+void      lc_scene_free(lc_scene *s);                   /* NULL is a no-op */
+lc_status lc_scene_configure(lc_scene *s, const lc_settings *st, lc_error *err);
+lc_settings lc_scene_settings(const lc_scene *s);
+lc_status lc_scene_set_camera(lc_scene *s, const lc_camera *c, lc_error *err);
+int       lc_scene_add_material(lc_scene *s, const lc_material *m, lc_error *err);
+int       lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material,
+                             lc_error *err);            /* id >= 0, or -1 */
+int       lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err);
+size_t    lc_scene_shape_count(const lc_scene *s);
+size_t    lc_scene_light_count(const lc_scene *s);
+
+/* ---- Rendering ------------------------------------------------------------- */
+
+typedef struct lc_image lc_image;
+
+/* Effects the compile step found the scene needs; a render tests only these. */
+enum {
+    LC_NEED_SHADOW   = 1 << 0,   /* some light can light some surface */
+    LC_NEED_EMITTER  = 1 << 1,   /* some shape emits and lights others */
+    LC_NEED_SPECULAR = 1 << 2,   /* some material has ks > 0 and there are lights */
+    LC_NEED_REFLECT  = 1 << 3,   /* some material has kr > 0 and max_depth > 0 */
+    LC_NEED_AMBIENT  = 1 << 4    /* ambient light and some ka > 0 */
+};
+
+typedef enum {
+    LC_RAY_CAMERA, LC_RAY_SHADOW, LC_RAY_REFLECTION, LC_RAY_KINDS
+} lc_ray_kind;
+
+const char *lc_ray_kind_name(lc_ray_kind k);           /* "camera", ... */
+const char *lc_need_name(unsigned need);                /* "shadow", ... */
+
+/* Called between tiles on the thread that called lc_scene_render, with the
+** share of tiles done; a nonzero return stops the render with LC_ECANCEL. */
+typedef int (*lc_progress_fn)(void *ud, double done);
+
+typedef struct {
+    int      width, height;  /* pixels, each in [1, LC_MAX_SIDE] */
+    int      samples;        /* camera rays per pixel, >= 1; 1 = pixel centre */
+    uint64_t seed;           /* every random number depends on it */
+    int      threads;        /* 0 = one per core */
+    int      cosine;         /* 0 drops the n.l factor (the seed's figure 7) */
+    lc_progress_fn progress; /* may be NULL */
+    void    *progress_ud;
+} lc_render_options;
+
+#define LC_MAX_SIDE   65536
+#define LC_MAX_PIXELS ((size_t)1 << 28)  /* 268M pixels, 3 GiB of floats */
+
+lc_render_options lc_render_options_default(void);     /* 640x480, 1 sample */
+
+typedef struct {
+    double   seconds;            /* compile + trace */
+    double   compile_seconds;
+    double   trace_seconds;
+    uint64_t rays[LC_RAY_KINDS];
+    unsigned needs;              /* LC_NEED_* bits */
+    int      threads;
+} lc_stats;
+
+lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
+                          lc_error *err);
+
+/* ---- Images ---------------------------------------------------------------- */
+
+typedef enum { LC_ENCODE_SRGB, LC_ENCODE_LINEAR } lc_encoding;
+
+lc_image *lc_image_new(int width, int height, lc_error *err); /* black */
+void      lc_image_free(lc_image *img);                 /* NULL is a no-op */
+int       lc_image_width(const lc_image *img);
+int       lc_image_height(const lc_image *img);
+lc_color  lc_image_get(const lc_image *img, int x, int y);  /* 0-based, top-left */
+void      lc_image_set(lc_image *img, int x, int y, lc_color c);
+uint8_t   lc_encode_channel(float linear, lc_encoding enc); /* clamp, encode, round */
+lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding enc,
+                            lc_error *err);             /* temp file, then rename */
+
+#endif

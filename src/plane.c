@@ -1,0 +1,64 @@
+/* plane.c: ray/infinite-plane hit, and snapping points onto a plane. */
+#include "geom.h"
+
+static int axis_of(lc_vec3 n)
+{
+    if (n.y == 0 && n.z == 0) return 0;
+    if (n.x == 0 && n.z == 0) return 1;
+    if (n.x == 0 && n.y == 0) return 2;
+    return -1;
+}
+
+void plane_prepare(const lc_shape *s, plane_geom *g)
+{
+    g->n = v3_norm(s->u);
+    g->p = s->p;
+    g->k = v3_dot(g->n, g->p);
+    g->axis = axis_of(g->n);
+    if (g->axis >= 0)      /* exact: the normal is +-1 on that axis */
+        g->n = v3(g->axis == 0 ? copysign(1, s->u.x) : 0,
+                  g->axis == 1 ? copysign(1, s->u.y) : 0,
+                  g->axis == 2 ? copysign(1, s->u.z) : 0);
+}
+
+/* p = o + t d carries an error proportional to t, which near the horizon is
+** huge; projecting back onto the plane leaves only the residual of n.p - k.
+** On an axis-aligned plane the coordinate is set exactly and its error is 0. */
+lc_vec3 plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
+                   lc_vec3 *perr)
+{
+    double m = v3_max_abs(p);
+    if (axis >= 0) {
+        if (axis == 0) p.x = axis_value;
+        else if (axis == 1) p.y = axis_value;
+        else p.z = axis_value;
+        *perr = v3(axis == 0 ? 0 : lc_gamma(2) * fabs(p.x),
+                   axis == 1 ? 0 : lc_gamma(2) * fabs(p.y),
+                   axis == 2 ? 0 : lc_gamma(2) * fabs(p.z));
+        return p;
+    }
+    double nn = v3_dot(n, n);
+    p = v3_madd(p, n, -(v3_dot(n, p) - k) / nn);
+    /* The residual of n.p - k is a few roundings of the largest term. */
+    double e = lc_gamma(8) * (m + fabs(k) / sqrt(nn));
+    *perr = v3_add(v3_mul(v3_abs(p), lc_gamma(2)), v3(e, e, e));
+    return p;
+}
+
+int plane_hit(const plane_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+{
+    double denom = v3_dot(g->n, r->d);
+    if (denom == 0)        /* exactly parallel; no epsilon band near grazing */
+        return 0;
+    double t = (g->k - v3_dot(g->n, r->o)) / denom;
+    if (!(t > tmin && t < tmax))   /* NaN and inf fail here */
+        return 0;
+    lc_vec3 perr;
+    lc_vec3 p = plane_snap(v3_madd(r->o, r->d, t), g->n, g->k, g->axis,
+                           v3_comp(g->p, g->axis < 0 ? 0 : g->axis), &perr);
+    h->t = t;
+    h->p = p;
+    h->perr = perr;
+    h->n = g->n;
+    return 1;
+}

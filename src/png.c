@@ -1,0 +1,120 @@
+/* png.c: writing images as 8-bit PNG through libpng, atomically. */
+#include <errno.h>
+#include <png.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include "error.h"
+#include "image.h"
+
+/* libpng reports errors by longjmp; the message is kept for lc_error. */
+typedef struct {
+    char msg[200];
+} png_failure;
+
+static void on_png_error(png_structp png, png_const_charp msg)
+{
+    png_failure *f = png_get_error_ptr(png);
+    snprintf(f->msg, sizeof f->msg, "%s", msg);
+    png_longjmp(png, 1);
+}
+
+static void on_png_warning(png_structp png, png_const_charp msg)
+{
+    (void)png;
+    (void)msg;                 /* the core never prints */
+}
+
+/* Writes rows to an open file; returns 0 or fills err. */
+static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const char *path,
+                           lc_error *err)
+{
+    png_failure fail = {""};
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &fail,
+                                              on_png_error, on_png_warning);
+    if (!png)
+        return lc_fail(err, LC_ENOMEM, NULL, "out of memory writing '%s'", path);
+    png_infop info = png_create_info_struct(png);
+    unsigned char *volatile row = NULL;
+    if (!info || setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, info ? &info : NULL);
+        free(row);
+        return lc_fail(err, LC_EIO, NULL, "cannot write '%s': %s", path,
+                       fail.msg[0] ? fail.msg : "out of memory");
+    }
+    png_init_io(png, fp);
+    png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height, 8,
+                 PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    if (enc == LC_ENCODE_SRGB)
+        png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+    else
+        png_set_gAMA(png, info, 1.0);   /* as POV-Ray and Tachyon do for linear output */
+    png_write_info(png, info);
+    row = malloc((size_t)img->width * 3);
+    if (!row)
+        png_error(png, "out of memory");
+    for (int y = 0; y < img->height; y++) {
+        const float *src = img->px + (size_t)y * img->width * 3;
+        for (int i = 0; i < img->width * 3; i++)
+            row[i] = lc_encode_channel(src[i], enc);
+        png_write_row(png, row);
+    }
+    png_write_end(png, info);
+    png_destroy_write_struct(&png, &info);
+    free(row);
+    return LC_OK;
+}
+
+/* The image goes to a temporary file beside the target, is flushed to disk,
+** and only then renamed over it: a crash or a full disk never leaves a
+** truncated PNG, and an existing file survives any failure. */
+lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding enc,
+                            lc_error *err)
+{
+    size_t n = strlen(path);
+    if (n == 0)
+        return lc_fail(err, LC_EARG, "path", "file name is empty");
+    char *tmp = malloc(n + 16);
+    if (!tmp)
+        return lc_fail(err, LC_ENOMEM, NULL, "out of memory writing '%s'", path);
+    memcpy(tmp, path, n);
+    memcpy(tmp + n, ".tmp-XXXXXX", 12);
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        lc_status st = lc_fail(err, LC_EIO, "path", "cannot write '%s': %s", path,
+                               strerror(errno));
+        free(tmp);
+        return st;
+    }
+    FILE *fp = fdopen(fd, "wb");
+    if (!fp) {
+        lc_status st = lc_fail(err, LC_EIO, "path", "cannot write '%s': %s", path,
+                               strerror(errno));
+        close(fd);
+        unlink(tmp);
+        free(tmp);
+        return st;
+    }
+    lc_status st = write_png(fp, img, enc, path, err);
+    if (st == LC_OK && (fflush(fp) != 0 || fsync(fileno(fp)) != 0))
+        st = lc_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
+    if (fclose(fp) != 0 && st == LC_OK)
+        st = lc_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
+    /* mkstemp makes the file 0600; a PNG is meant to be shared like any file. */
+    if (st == LC_OK) {
+        mode_t um = umask(0);
+        umask(um);
+        chmod(tmp, 0666 & ~um);
+    }
+    if (st == LC_OK && rename(tmp, path) != 0)
+        st = lc_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
+    if (st != LC_OK)
+        unlink(tmp);
+    else
+        lc_ok(err);
+    free(tmp);
+    return st;
+}

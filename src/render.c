@@ -1,0 +1,270 @@
+/* render.c: tiles traced in parallel into a linear image, with statistics. */
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include "camera.h"
+#include "error.h"
+#include "image.h"
+#include "rng.h"
+#include "shade.h"
+
+#define TILE 16
+#define MAX_THREADS 256
+#define MAX_SAMPLES (1 << 20)
+
+lc_render_options lc_render_options_default(void)
+{
+    lc_render_options o;
+    memset(&o, 0, sizeof o);
+    o.width = 640;
+    o.height = 480;
+    o.samples = 1;
+    o.cosine = 1;
+    return o;
+}
+
+static const char *const ray_names[LC_RAY_KINDS] = {"camera", "shadow", "reflection"};
+
+const char *lc_ray_kind_name(lc_ray_kind k)
+{
+    return (unsigned)k < LC_RAY_KINDS ? ray_names[k] : "?";
+}
+
+const char *lc_need_name(unsigned need)
+{
+    switch (need) {
+    case LC_NEED_SHADOW: return "shadow";
+    case LC_NEED_EMITTER: return "emitter";
+    case LC_NEED_SPECULAR: return "specular";
+    case LC_NEED_REFLECT: return "reflect";
+    case LC_NEED_AMBIENT: return "ambient";
+    default: return "?";
+    }
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+typedef struct {
+    const lc_render_options *o;
+    lc_scene       *scene;
+    camera_frame    cam;
+    lc_image       *img;
+    int             tiles_x, ntiles;
+    pthread_mutex_t lock;
+    pthread_cond_t  tile_done;
+    int             next, done, cancel, running;
+} job;
+
+typedef struct {
+    job      *j;
+    tracer    t;
+    pthread_t thread;
+} worker;
+
+/* Sample s of n inside a pixel: the centre for one sample; a jittered
+** k x k grid when n is a square; otherwise independent positions. */
+static void sample_offset(const job *j, uint64_t pixel, int s, int n, double *dx, double *dy)
+{
+    if (n == 1) {
+        *dx = *dy = 0.5;
+        return;
+    }
+    double u1 = rng_u01(j->o->seed, pixel, (uint32_t)s, 0);
+    double u2 = rng_u01(j->o->seed, pixel, (uint32_t)s, 1);
+    int k = (int)sqrt((double)n);
+    if (k * k == n) {
+        *dx = (s % k + u1) / k;
+        *dy = (s / k + u2) / k;
+    } else {
+        *dx = u1;
+        *dy = u2;
+    }
+}
+
+static void render_tile(job *j, tracer *t, int tile)
+{
+    int x0 = (tile % j->tiles_x) * TILE, y0 = (tile / j->tiles_x) * TILE;
+    int x1 = x0 + TILE < j->img->width ? x0 + TILE : j->img->width;
+    int y1 = y0 + TILE < j->img->height ? y0 + TILE : j->img->height;
+    int n = j->o->samples;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            uint64_t pixel = (uint64_t)y * j->img->width + x;
+            double r = 0, g = 0, b = 0;
+            for (int s = 0; s < n; s++) {
+                double dx, dy;
+                sample_offset(j, pixel, s, n, &dx, &dy);
+                lc_ray ray = camera_ray(&j->cam, x + dx, y + dy);
+                t->rays[LC_RAY_CAMERA]++;
+                lc_color c = trace_ray(t, &ray, 0);
+                r += c.r;
+                g += c.g;
+                b += c.b;
+            }
+            lc_image_set(j->img, x, y, rgb((float)(r / n), (float)(g / n), (float)(b / n)));
+        }
+}
+
+static void *work(void *arg)
+{
+    worker *w = arg;
+    job *j = w->j;
+    for (;;) {
+        pthread_mutex_lock(&j->lock);
+        int tile = j->cancel || j->next >= j->ntiles ? -1 : j->next++;
+        pthread_mutex_unlock(&j->lock);
+        if (tile < 0)
+            break;
+        render_tile(j, &w->t, tile);
+        pthread_mutex_lock(&j->lock);
+        j->done++;
+        pthread_cond_signal(&j->tile_done);
+        pthread_mutex_unlock(&j->lock);
+    }
+    pthread_mutex_lock(&j->lock);
+    j->running--;
+    pthread_cond_signal(&j->tile_done);
+    pthread_mutex_unlock(&j->lock);
+    return NULL;
+}
+
+static lc_status check_options(const lc_render_options *o, lc_error *err)
+{
+    if (o->width < 1 || o->width > LC_MAX_SIDE)
+        return lc_fail(err, LC_EARG, "width", "must be in [1, %d], got %d", LC_MAX_SIDE,
+                       o->width);
+    if (o->height < 1 || o->height > LC_MAX_SIDE)
+        return lc_fail(err, LC_EARG, "height", "must be in [1, %d], got %d", LC_MAX_SIDE,
+                       o->height);
+    if ((size_t)o->width * (size_t)o->height > LC_MAX_PIXELS)
+        return lc_fail(err, LC_EARG, "width", "%dx%d is more than %zu pixels",
+                       o->width, o->height, LC_MAX_PIXELS);
+    if (o->samples < 1 || o->samples > MAX_SAMPLES)
+        return lc_fail(err, LC_EARG, "samples", "must be in [1, %d], got %d", MAX_SAMPLES,
+                       o->samples);
+    if (o->threads < 0 || o->threads > MAX_THREADS)
+        return lc_fail(err, LC_EARG, "threads", "must be in [0, %d], got %d", MAX_THREADS,
+                       o->threads);
+    return LC_OK;
+}
+
+lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
+                          lc_error *err)
+{
+    if (check_options(o, err))
+        return NULL;
+    if (!s->has_camera) {
+        lc_fail(err, LC_EARG, "camera", "the scene has no camera");
+        return NULL;
+    }
+    double t0 = now();
+    if (scene_compile(s, s->settings.max_depth, err))
+        return NULL;
+    double t1 = now();
+    lc_image *img = lc_image_new(o->width, o->height, err);
+    if (!img)
+        return NULL;
+
+    job j;
+    memset(&j, 0, sizeof j);
+    j.o = o;
+    j.scene = s;
+    j.img = img;
+    camera_frame_init(&s->camera, o->width, o->height, &j.cam);
+    j.tiles_x = (o->width + TILE - 1) / TILE;
+    j.ntiles = j.tiles_x * ((o->height + TILE - 1) / TILE);
+    int nt = o->threads;
+    if (nt == 0) {
+        long nc = sysconf(_SC_NPROCESSORS_ONLN);
+        nt = nc < 1 ? 1 : nc > MAX_THREADS ? MAX_THREADS : (int)nc;
+    }
+    if (nt > j.ntiles)
+        nt = j.ntiles;
+    worker *ws = calloc((size_t)nt, sizeof *ws);
+    if (!ws) {
+        lc_image_free(img);
+        lc_fail(err, LC_ENOMEM, NULL, "out of memory starting %d threads", nt);
+        return NULL;
+    }
+    pthread_mutex_init(&j.lock, NULL);
+    pthread_cond_init(&j.tile_done, NULL);
+    int started = 0;
+    for (int i = 0; i < nt; i++) {
+        ws[i].j = &j;
+        ws[i].t.scene = s;
+        ws[i].t.c = &s->c;
+        ws[i].t.needs = s->c.needs;
+        ws[i].t.max_depth = s->settings.max_depth;
+        ws[i].t.cosine = o->cosine;
+        pthread_mutex_lock(&j.lock);
+        j.running++;
+        pthread_mutex_unlock(&j.lock);
+        if (pthread_create(&ws[i].thread, NULL, work, &ws[i]) != 0) {
+            pthread_mutex_lock(&j.lock);
+            j.running--;
+            pthread_mutex_unlock(&j.lock);
+            break;
+        }
+        started++;
+    }
+    if (started == 0) {     /* no thread could start: trace on this one */
+        ws[0].j = &j;
+        j.running = 1;
+        work(&ws[0]);
+    }
+    /* The calling thread reports progress between tiles and honours cancel. */
+    pthread_mutex_lock(&j.lock);
+    while (j.running > 0) {
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_nsec += 100000000;
+        if (until.tv_nsec >= 1000000000) {
+            until.tv_sec++;
+            until.tv_nsec -= 1000000000;
+        }
+        pthread_cond_timedwait(&j.tile_done, &j.lock, &until);
+        if (o->progress && !j.cancel) {
+            double done = (double)j.done / j.ntiles;
+            pthread_mutex_unlock(&j.lock);
+            int stop = o->progress(o->progress_ud, done);
+            pthread_mutex_lock(&j.lock);
+            if (stop)
+                j.cancel = 1;
+        }
+    }
+    pthread_mutex_unlock(&j.lock);
+    for (int i = 0; i < started; i++)
+        pthread_join(ws[i].thread, NULL);
+    double t2 = now();
+
+    lc_stats sum;
+    memset(&sum, 0, sizeof sum);
+    for (int i = 0; i < nt; i++)
+        for (int k = 0; k < LC_RAY_KINDS; k++)
+            sum.rays[k] += ws[i].t.rays[k];
+    sum.compile_seconds = t1 - t0;
+    sum.trace_seconds = t2 - t1;
+    sum.seconds = t2 - t0;
+    sum.needs = s->c.needs;
+    sum.threads = started ? started : 1;
+    int cancelled = j.cancel;
+    free(ws);
+    pthread_mutex_destroy(&j.lock);
+    pthread_cond_destroy(&j.tile_done);
+    if (st)
+        *st = sum;
+    if (cancelled) {
+        lc_image_free(img);
+        lc_fail(err, LC_ECANCEL, NULL, "render cancelled");
+        return NULL;
+    }
+    lc_ok(err);
+    return img;
+}

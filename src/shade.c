@@ -1,0 +1,138 @@
+/* shade.c: the seed's shading model (Phong with recursive mirrors) at a hit. */
+#include "shade.h"
+
+#define PI 3.14159265358979323846
+
+/* Shadow rays stop this fraction short of their target, so a light sitting
+** exactly on a surface is not hidden by that surface. Relative, hence the
+** same at every scale (pbrt-v4's ShadowEpsilon, tighter because we are in
+** double). Tested by the light-on-surface cases. */
+#define SHADOW_SHORTEN 1e-9
+
+typedef struct {
+    lc_color diffuse;     /* sum of Lc * (n.l) */
+    lc_color specular;    /* sum of Lc * (R.V)^alpha */
+} light_sum;
+
+/* Adds one light of colour lc seen along unit l with n.l = cosl. */
+static void add_light(const tracer *t, const lc_material *m, lc_vec3 n, lc_vec3 v,
+                      lc_vec3 l, double cosl, lc_color lc, light_sum *sum)
+{
+    sum->diffuse = c_add(sum->diffuse, c_scale(lc, t->cosine ? cosl : 1.0));
+    if ((t->needs & LC_NEED_SPECULAR) && m->ks > 0) {
+        lc_vec3 R = v3_sub(v3_mul(n, 2 * cosl), l);
+        double rv = v3_dot(R, v);
+        if (rv > 0)
+            sum->specular = c_add(sum->specular, c_scale(lc, pow(rv, m->alpha)));
+    }
+}
+
+static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n,
+                         lc_vec3 v, light_sum *sum)
+{
+    const lc_scene *s = t->scene;
+    double tooclose = 4 * v3_len(h->perr);
+    for (size_t i = 0; i < s->nlights; i++) {
+        const lc_point_light *L = &s->lights[i];
+        lc_vec3 tol = v3_sub(L->position, h->p);
+        double d = v3_len(tol);
+        if (!(d > tooclose))        /* light on the point itself: no direction */
+            continue;
+        lc_vec3 l = v3_mul(tol, 1.0 / d);
+        double cosl = v3_dot(n, l);
+        if (!(cosl > 0))            /* behind the surface: no shadow ray at all */
+            continue;
+        lc_ray sr;
+        sr.o = spawn_origin(h, l);
+        lc_vec3 so = v3_sub(L->position, sr.o);
+        double sd = v3_len(so);
+        sr.d = v3_mul(so, 1.0 / sd);
+        t->rays[LC_RAY_SHADOW]++;
+        if (scene_occluded(t->c, &sr, sd * (1 - SHADOW_SHORTEN)))
+            continue;
+        double k = L->intensity;
+        if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)
+            k /= d * d;
+        add_light(t, m, n, v, l, cosl, c_scale(L->color, k), sum);
+    }
+}
+
+/* The seed's emissive shapes: visible when the ray toward the shape's centre
+** meets the shape itself (or nothing) first. The light colour is E/(pi cos),
+** E the irradiance of the whole shape seen from the point: exact for a
+** sphere (pi L (r/d)^2 cos), projected area over d^2 for quads and boxes. */
+static void emitters(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n,
+                     lc_vec3 v, light_sum *sum)
+{
+    const compiled *c = t->c;
+    double tooclose = 4 * v3_len(h->perr);
+    for (size_t i = 0; i < c->nemitters; i++) {
+        const emitter *e = &c->emitters[i];
+        if (e->shape == h->shape)
+            continue;
+        lc_vec3 tol = v3_sub(e->target, h->p);
+        double d = v3_len(tol);
+        if (!(d > tooclose))
+            continue;
+        lc_vec3 l = v3_mul(tol, 1.0 / d);
+        double cosl = v3_dot(n, l);
+        if (!(cosl > 0))
+            continue;
+        lc_ray sr;
+        sr.o = spawn_origin(h, l);
+        lc_vec3 so = v3_sub(e->target, sr.o);
+        double sd = v3_len(so);
+        sr.d = v3_mul(so, 1.0 / sd);
+        t->rays[LC_RAY_SHADOW]++;
+        lc_hit blk;
+        if (scene_closest(c, &sr, sd * (1 - SHADOW_SHORTEN), &blk) && blk.shape != e->shape)
+            continue;
+        double k;
+        if (e->kind == LC_SPHERE) {
+            k = (e->radius / d) * (e->radius / d);
+        } else {
+            double a = fabs(v3_dot(e->area[0], l));
+            if (e->kind == LC_BOX)
+                a += fabs(v3_dot(e->area[1], l)) + fabs(v3_dot(e->area[2], l));
+            k = a / (PI * d * d);
+        }
+        if (k > 1)                  /* no shape gives more than its radiance */
+            k = 1;
+        add_light(t, m, n, v, l, cosl, c_scale(e->emission, k), sum);
+    }
+}
+
+lc_color trace_ray(tracer *t, const lc_ray *r, int depth)
+{
+    lc_hit h;
+    if (!scene_closest(t->c, r, HUGE_VAL, &h))
+        return t->scene->settings.background;
+    const lc_material *m = &t->scene->materials[h.material];
+    lc_vec3 n = v3_dot(h.n, r->d) > 0 ? v3_neg(h.n) : h.n;   /* face the viewer */
+    lc_vec3 v = v3_neg(r->d);
+
+    light_sum sum = {{0, 0, 0}, {0, 0, 0}};
+    if ((t->needs & LC_NEED_SHADOW) && (m->kd > 0 || m->ks > 0))
+        point_lights(t, &h, m, n, v, &sum);
+    if ((t->needs & LC_NEED_EMITTER) && (m->kd > 0 || m->ks > 0))
+        emitters(t, &h, m, n, v, &sum);
+
+    lc_color base = c_scale(sum.diffuse, m->kd);             /* kd Cd */
+    if (t->needs & LC_NEED_AMBIENT)
+        base = c_add(base, c_scale(t->scene->settings.ambient, m->ka));
+    lc_color extra = c_scale(sum.specular, m->ks);           /* ks H^a Cs */
+    if ((t->needs & LC_NEED_REFLECT) && m->kr > 0 && depth < t->max_depth) {
+        lc_vec3 rd = v3_madd(r->d, h.n, -2 * v3_dot(r->d, h.n));
+        lc_ray rr;
+        rr.o = spawn_origin(&h, rd);
+        rr.d = v3_norm(rd);
+        t->rays[LC_RAY_REFLECTION]++;
+        extra = c_add(extra, c_scale(trace_ray(t, &rr, depth + 1), m->kr));  /* kr Cr */
+    }
+    lc_color out;
+    if (m->absorb == LC_ABSORB_ALL)       /* the seed: absorption after the sum */
+        out = c_mul(m->color, c_add(base, extra));
+    else
+        out = c_add(c_mul(m->color, base), extra);
+    return c_add(out, m->emission);
+}

@@ -1,0 +1,18 @@
+/* shade.h: the integrator: the colour a ray brings back. */
+#ifndef LC_SHADE_H
+#define LC_SHADE_H
+
+#include "scene.h"
+
+typedef struct {
+    const lc_scene *scene;
+    const compiled *c;
+    unsigned needs;            /* copy of c->needs, minus what options turn off */
+    int      max_depth;
+    int      cosine;
+    uint64_t rays[LC_RAY_KINDS];   /* this thread's counts */
+} tracer;
+
+lc_color trace_ray(tracer *t, const lc_ray *r, int depth);
+
+#endif

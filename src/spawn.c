@@ -1,0 +1,23 @@
+/* spawn.c: where secondary rays start, clear of the surface they leave. */
+#include "geom.h"
+
+/* Move p along the normal by the support of its error box, on the side the
+** new ray goes, then one ulp further: the origin is then provably on the
+** correct side of the true surface (pbrt-v4 OffsetRayOrigin). No fixed
+** epsilon: the offset scales with the point's own rounding error. */
+lc_vec3 spawn_origin(const lc_hit *h, lc_vec3 w)
+{
+    lc_vec3 n = h->n;
+    double dist = fabs(n.x) * h->perr.x + fabs(n.y) * h->perr.y + fabs(n.z) * h->perr.z;
+    lc_vec3 off = v3_mul(n, dist);
+    if (v3_dot(w, n) < 0)
+        off = v3_neg(off);
+    lc_vec3 po = v3_add(h->p, off);
+    if (off.x > 0) po.x = nextafter(po.x, HUGE_VAL);
+    else if (off.x < 0) po.x = nextafter(po.x, -HUGE_VAL);
+    if (off.y > 0) po.y = nextafter(po.y, HUGE_VAL);
+    else if (off.y < 0) po.y = nextafter(po.y, -HUGE_VAL);
+    if (off.z > 0) po.z = nextafter(po.z, HUGE_VAL);
+    else if (off.z < 0) po.z = nextafter(po.z, -HUGE_VAL);
+    return po;
+}

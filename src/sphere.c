@@ -1,0 +1,52 @@
+/* sphere.c: ray/sphere hit with the rewritten discriminant. */
+#include "geom.h"
+
+void sphere_prepare(const lc_shape *s, sphere_geom *g)
+{
+    g->c = s->p;
+    g->r = s->radius;
+}
+
+/* The naive b^2 - 4ac cancels when the sphere is small or far: b^2 and 4ac
+** are both ~|f|^4 and differ by ~r^2. With v the ray's closest-approach
+** offset from the centre, the discriminant is (r - |v|)(r + |v|), which
+** never subtracts nearly equal large numbers (Haines et al., RTG ch. 7).
+** The roots are taken as c/q and q (Press et al.), so neither cancels. */
+int sphere_hit(const sphere_geom *s, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+{
+    lc_vec3 f = v3_sub(r->o, s->c);
+    double b = v3_dot(f, r->d);
+    lc_vec3 v = v3_madd(f, r->d, -b);
+    double lv = v3_len(v);
+    double disc = (s->r - lv) * (s->r + lv);
+    if (!(disc >= 0))
+        return 0;
+    double q = -b - copysign(sqrt(disc), b);
+    if (q == 0)            /* tangent at the origin itself: both roots are 0 */
+        return 0;
+    double lf = v3_len(f);
+    double c = (lf - s->r) * (lf + s->r);
+    double t0 = c / q, t1 = q;
+    if (t0 > t1) {
+        double tt = t0; t0 = t1; t1 = tt;
+    }
+    double t = t0;
+    if (!(t > tmin && t < tmax)) {
+        t = t1;
+        if (!(t > tmin && t < tmax))
+            return 0;
+    }
+    /* Put the point back onto the sphere: what remains is bounded by
+    ** gamma(5)|p_local| (pbrt-v4); adding the centre rounds once more. */
+    lc_vec3 pl = v3_madd(f, r->d, t);
+    double len = v3_len(pl);
+    if (!(len > 0))
+        return 0;
+    lc_vec3 n = v3_mul(pl, 1.0 / len);
+    pl = v3_mul(n, s->r);
+    h->t = t;
+    h->p = v3_add(s->c, pl);
+    h->perr = v3_add(v3_mul(v3_abs(pl), lc_gamma(7)), v3_mul(v3_abs(h->p), lc_gamma(4)));
+    h->n = n;
+    return 1;
+}

@@ -1,0 +1,56 @@
+/* vec.h: small vector maths in double, and floating-point error helpers. */
+#ifndef LC_VEC_H
+#define LC_VEC_H
+
+#include <float.h>
+#include <math.h>
+#include "lancer.h"
+
+static inline lc_vec3 v3(double x, double y, double z)
+{
+    lc_vec3 r = {x, y, z};
+    return r;
+}
+static inline lc_vec3 v3_add(lc_vec3 a, lc_vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static inline lc_vec3 v3_sub(lc_vec3 a, lc_vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline lc_vec3 v3_mul(lc_vec3 a, double s) { return v3(a.x * s, a.y * s, a.z * s); }
+static inline lc_vec3 v3_neg(lc_vec3 a) { return v3(-a.x, -a.y, -a.z); }
+static inline double  v3_dot(lc_vec3 a, lc_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline double  v3_len(lc_vec3 a) { return sqrt(v3_dot(a, a)); }
+static inline lc_vec3 v3_abs(lc_vec3 a) { return v3(fabs(a.x), fabs(a.y), fabs(a.z)); }
+static inline double  v3_max_abs(lc_vec3 a)
+{
+    return fmax(fabs(a.x), fmax(fabs(a.y), fabs(a.z)));
+}
+static inline double v3_comp(lc_vec3 a, int i) { return i == 0 ? a.x : i == 1 ? a.y : a.z; }
+static inline lc_vec3 v3_cross(lc_vec3 a, lc_vec3 b)
+{
+    return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+static inline lc_vec3 v3_norm(lc_vec3 a) { return v3_mul(a, 1.0 / v3_len(a)); }
+static inline lc_vec3 v3_madd(lc_vec3 a, lc_vec3 b, double s)  /* a + b*s */
+{
+    return v3(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s);
+}
+
+/* gamma(n) bounds the relative error of n chained roundings (pbrt-v4, 6.8). */
+static inline double lc_gamma(int n)
+{
+    const double e = DBL_EPSILON * 0.5;
+    return (n * e) / (1 - n * e);
+}
+
+static inline lc_color rgb(float r, float g, float b)
+{
+    lc_color c = {r, g, b};
+    return c;
+}
+static inline lc_color c_add(lc_color a, lc_color b) { return rgb(a.r + b.r, a.g + b.g, a.b + b.b); }
+static inline lc_color c_mul(lc_color a, lc_color b) { return rgb(a.r * b.r, a.g * b.g, a.b * b.b); }
+static inline lc_color c_scale(lc_color a, double s)
+{
+    return rgb((float)(a.r * s), (float)(a.g * s), (float)(a.b * s));
+}
+static inline int c_is_black(lc_color a) { return a.r == 0 && a.g == 0 && a.b == 0; }
+
+#endif

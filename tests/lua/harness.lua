@@ -1,0 +1,78 @@
+-- harness.lua: the small test harness every tests/lua/test_*.lua file uses.
+-- A file registers cases with T.test(name, fn); tests/lua/all.lua runs them.
+local T = {cases = {}}
+
+function T.test(name, fn)
+  T.cases[#T.cases + 1] = {name = name, fn = fn, file = debug.getinfo(2, "S").short_src}
+end
+
+-- Calls f, which must raise; every further argument must appear in the message.
+function T.check_error(f, ...)
+  local ok, msg = pcall(f)
+  assert(not ok, "no error raised")
+  msg = tostring(msg)
+  for _, part in ipairs{...} do
+    assert(msg:find(part, 1, true), ("%q not in: %s"):format(part, msg))
+  end
+  return msg
+end
+
+function T.near(actual, expected, tol, what)
+  if not (math.abs(actual - expected) <= tol) then
+    error(("%s: got %.9g, expected %.9g within %.3g"):format(
+      what or "value", actual, expected, tol), 2)
+  end
+end
+
+function T.eq(actual, expected, what)
+  if actual ~= expected then
+    error(("%s: got %s, expected %s"):format(what or "value",
+      tostring(actual), tostring(expected)), 2)
+  end
+end
+
+-- Counts NaN and infinite channels over a whole image.
+function T.bad_pixels(img)
+  local bad = 0
+  for y = 1, img.height do
+    for x = 1, img.width do
+      local r, g, b = img:pixel(x, y)
+      for _, c in ipairs{r, g, b} do
+        if c ~= c or c == math.huge or c == -math.huge then bad = bad + 1 end
+      end
+    end
+  end
+  return bad
+end
+
+-- Path of the lancer command in the build tree.
+T.lancer = os.getenv("LANCER_BIN") or "build/bin/lancer"
+
+-- Runs a shell command; returns its stdout, stderr and exit code.
+function T.run(cmd, stdin)
+  local out, err = os.tmpname(), os.tmpname()
+  local full = cmd .. " >" .. out .. " 2>" .. err
+  if stdin then
+    local inp = os.tmpname()
+    local f = assert(io.open(inp, "w")); f:write(stdin); f:close()
+    full = full .. " <" .. inp
+    local ok, how, code = os.execute(full)
+    os.remove(inp)
+    local o, e = T.slurp(out), T.slurp(err)
+    os.remove(out); os.remove(err)
+    return o, e, how == "exit" and code or 128 + code
+  end
+  local ok, how, code = os.execute(full)
+  local o, e = T.slurp(out), T.slurp(err)
+  os.remove(out); os.remove(err)
+  return o, e, how == "exit" and code or 128 + code
+end
+
+function T.slurp(path)
+  local f = io.open(path, "rb")
+  if not f then return nil end
+  local s = f:read("a"); f:close()
+  return s
+end
+
+return T

@@ -1,0 +1,37 @@
+#!/bin/sh
+# install-deps.sh: install the Debian packages lancer needs, only those missing.
+# Usage: tools/install-deps.sh [build|test]
+# Runs apt-get (through sudo when not root) only when something is missing,
+# so a machine that already has everything is never touched.
+set -eu
+
+build_pkgs="gcc make pkg-config lua5.4 liblua5.4-dev libpng-dev libedit-dev"
+test_pkgs="libcmocka-dev"
+
+case "${1:-build}" in
+    build) want="$build_pkgs" ;;
+    test)  want="$build_pkgs $test_pkgs" ;;
+    *) echo "usage: $0 [build|test]" >&2; exit 2 ;;
+esac
+
+missing=""
+for p in $want; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
+        missing="$missing $p"
+    fi
+done
+[ -z "$missing" ] && exit 0
+
+if ! command -v apt-get >/dev/null 2>&1; then
+    echo "install-deps: missing packages:$missing (and no apt-get here; install them by hand)" >&2
+    exit 1
+fi
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+    if command -v sudo >/dev/null 2>&1; then sudo="sudo"; else
+        echo "install-deps: need root or sudo to install:$missing" >&2; exit 1
+    fi
+fi
+echo "install-deps: installing$missing" >&2
+$sudo env DEBIAN_FRONTEND=noninteractive apt-get update -q >&2
+$sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends $missing >&2
