@@ -86,7 +86,8 @@ demo:
 	@sh tools/install-deps.sh build
 	@$(MAKE) --no-print-directory all
 	@mkdir -p out
-	$(BIN) scenes/showcase.lua -o out/showcase.png
+	$(BIN) scenes/showcase.lua out/showcase.png
+	@echo "wrote out/showcase.png"
 
 test:
 	@sh tools/install-deps.sh test

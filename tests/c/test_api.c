@@ -1,0 +1,103 @@
+/* test_api.c: the embeddable C API, used as the README shows, through lancer.h only. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+#include <cmocka.h>
+#include "lancer.h"
+
+/* The README's embedding example, checked against the closed form: a white
+** sphere facing a light 3 units from its nearest point reads I/3^2. */
+static void readme_example_renders(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_scene *s = lc_scene_new(&err);
+    assert_non_null(s);
+    lc_camera cam = {{0, 1, -4}, {0, 1, 0}, {0, 1, 0}, 1};
+    assert_int_equal(lc_scene_set_camera(s, &cam, &err), LC_OK);
+    lc_material m = lc_material_default();
+    int mi = lc_scene_add_material(s, &m, &err);
+    assert_int_equal(mi, 0);
+    lc_shape ball = {LC_SPHERE, {0, 1, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 1};
+    assert_int_equal(lc_scene_add_shape(s, &ball, mi, &err), 0);
+    lc_point_light l = {{0, 1, -4}, {1, 1, 1}, 27, LC_FALLOFF_INVERSE_SQUARE};
+    assert_int_equal(lc_scene_add_light(s, &l, &err), 0);
+    lc_render_options o = lc_render_options_default();
+    o.width = 3;
+    o.height = 3;
+    lc_stats st;
+    lc_image *img = lc_scene_render(s, &o, &st, &err);
+    assert_non_null(img);
+    lc_color c = lc_image_get(img, 1, 1);
+    assert_true(fabs(c.r - 27.0 / 9.0) < 1e-5);
+    assert_int_equal(st.rays[LC_RAY_CAMERA], 9);
+    assert_true((st.needs & LC_NEED_REFLECT) == 0);
+    lc_image_free(img);
+    lc_scene_free(s);
+}
+
+static void errors_name_the_field(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_scene *s = lc_scene_new(&err);
+    lc_material m = lc_material_default();
+    int mi = lc_scene_add_material(s, &m, &err);
+    lc_shape bad = {LC_SPHERE, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, -2};
+    assert_int_equal(lc_scene_add_shape(s, &bad, mi, &err), -1);
+    assert_int_equal(err.code, LC_EARG);
+    assert_string_equal(err.field, "radius");
+    assert_non_null(strstr(err.msg, "got -2"));
+    lc_render_options o = lc_render_options_default();
+    assert_null(lc_scene_render(s, &o, NULL, &err));
+    assert_string_equal(err.field, "camera");
+    lc_scene_free(s);
+    lc_scene_free(NULL);
+    lc_image_free(NULL);
+}
+
+static int cancel_at_once(void *ud, double done)
+{
+    (void)done;
+    ++*(int *)ud;
+    return 1;
+}
+
+static void progress_can_cancel(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_scene *s = lc_scene_new(&err);
+    lc_camera cam = {{0, 0, -4}, {0, 0, 0}, {0, 1, 0}, 60};
+    lc_scene_set_camera(s, &cam, &err);
+    lc_material m = lc_material_default();
+    int mi = lc_scene_add_material(s, &m, &err);
+    for (int i = 0; i < 200; i++) {
+        lc_shape b = {LC_SPHERE, {i * 0.01, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 1};
+        lc_scene_add_shape(s, &b, mi, &err);
+    }
+    int calls = 0;
+    lc_render_options o = lc_render_options_default();
+    o.width = 1024;
+    o.height = 1024;
+    o.progress = cancel_at_once;
+    o.progress_ud = &calls;
+    lc_stats st;
+    assert_null(lc_scene_render(s, &o, &st, &err));
+    assert_int_equal(err.code, LC_ECANCEL);
+    assert_true(calls >= 1);
+    lc_scene_free(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(readme_example_renders),
+        cmocka_unit_test(errors_name_the_field),
+        cmocka_unit_test(progress_can_cancel),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
