@@ -102,37 +102,48 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n
     }
 }
 
-lc_color trace_ray(tracer *t, const lc_ray *r, int depth)
+/* The mirror chain is a loop, not a recursion: each bounce adds its own
+** light times the product of the reflection weights before it, so any
+** max_depth costs no stack. For absorb = 'all' (the seed) the weight
+** includes the colour: colour * (... + kr * Cr) expands to that. */
+lc_color trace_ray(tracer *t, const lc_ray *r0, int depth)
 {
-    lc_hit h;
-    if (!scene_closest(t->c, r, HUGE_VAL, &h))
-        return t->scene->settings.background;
-    const lc_material *m = &t->scene->materials[h.material];
-    lc_vec3 n = v3_dot(h.n, r->d) > 0 ? v3_neg(h.n) : h.n;   /* face the viewer */
-    lc_vec3 v = v3_neg(r->d);
+    lc_ray r = *r0;
+    lc_color acc = {0, 0, 0}, w = {1, 1, 1};
+    for (;;) {
+        lc_hit h;
+        if (!scene_closest(t->c, &r, HUGE_VAL, &h))
+            return c_add(acc, c_mul(w, t->scene->settings.background));
+        const lc_material *m = &t->scene->materials[h.material];
+        lc_vec3 n = v3_dot(h.n, r.d) > 0 ? v3_neg(h.n) : h.n;   /* face the viewer */
+        lc_vec3 v = v3_neg(r.d);
 
-    light_sum sum = {{0, 0, 0}, {0, 0, 0}};
-    if ((t->needs & LC_NEED_SHADOW) && (m->kd > 0 || m->ks > 0))
-        point_lights(t, &h, m, n, v, &sum);
-    if ((t->needs & LC_NEED_EMITTER) && (m->kd > 0 || m->ks > 0))
-        emitters(t, &h, m, n, v, &sum);
+        light_sum sum = {{0, 0, 0}, {0, 0, 0}};
+        if ((t->needs & LC_NEED_SHADOW) && (m->kd > 0 || m->ks > 0))
+            point_lights(t, &h, m, n, v, &sum);
+        if ((t->needs & LC_NEED_EMITTER) && (m->kd > 0 || m->ks > 0))
+            emitters(t, &h, m, n, v, &sum);
 
-    lc_color base = c_scale(sum.diffuse, m->kd);             /* kd Cd */
-    if (t->needs & LC_NEED_AMBIENT)
-        base = c_add(base, c_scale(t->scene->settings.ambient, m->ka));
-    lc_color extra = c_scale(sum.specular, m->ks);           /* ks H^a Cs */
-    if ((t->needs & LC_NEED_REFLECT) && m->kr > 0 && depth < t->max_depth) {
-        lc_vec3 rd = v3_madd(r->d, h.n, -2 * v3_dot(r->d, h.n));
-        lc_ray rr;
-        rr.o = spawn_origin(&h, rd);
-        rr.d = v3_norm(rd);
+        lc_color base = c_scale(sum.diffuse, m->kd);             /* kd Cd */
+        if (t->needs & LC_NEED_AMBIENT)
+            base = c_add(base, c_scale(t->scene->settings.ambient, m->ka));
+        lc_color spec = c_scale(sum.specular, m->ks);            /* ks H^a Cs */
+        lc_color local, next;
+        if (m->absorb == LC_ABSORB_ALL) {     /* the seed: absorption after the sum */
+            local = c_mul(m->color, c_add(base, spec));
+            next = c_scale(c_mul(w, m->color), m->kr);
+        } else {
+            local = c_add(c_mul(m->color, base), spec);
+            next = c_scale(w, m->kr);
+        }
+        acc = c_add(acc, c_mul(w, c_add(local, m->emission)));
+        if (!((t->needs & LC_NEED_REFLECT) && m->kr > 0 && depth < t->max_depth))
+            return acc;
+        lc_vec3 rd = v3_madd(r.d, h.n, -2 * v3_dot(r.d, h.n));   /* kr Cr */
+        r.o = spawn_origin(&h, rd);
+        r.d = v3_norm(rd);
         t->rays[LC_RAY_REFLECTION]++;
-        extra = c_add(extra, c_scale(trace_ray(t, &rr, depth + 1), m->kr));  /* kr Cr */
+        w = next;
+        depth++;
     }
-    lc_color out;
-    if (m->absorb == LC_ABSORB_ALL)       /* the seed: absorption after the sum */
-        out = c_mul(m->color, c_add(base, extra));
-    else
-        out = c_add(c_mul(m->color, base), extra);
-    return c_add(out, m->emission);
 }
