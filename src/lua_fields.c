@@ -1,4 +1,5 @@
 /* lua_fields.c: reading named-argument tables, with errors that name the field. */
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -27,27 +28,30 @@ int lf_raise(lua_State *L, int arg, const lc_error *err)
     return luaL_error(L, "%s", err->msg);
 }
 
-/* Edit distance, for the did-you-mean hint; names are short. */
+/* Edit distance counting a swap of neighbours as one edit (optimal string
+** alignment), for the did-you-mean hint: 'fvo' is one edit from 'fov'. */
 static size_t distance(const char *a, const char *b)
 {
-    size_t la = strlen(a), lb = strlen(b), row[64];
-    if (la >= 63 || lb >= 63)
-        return 99;
+    size_t la = strlen(a), lb = strlen(b);
+    static const size_t far = 99;
+    if (la >= 31 || lb >= 31)
+        return far;
+    size_t d[32][32];
+    for (size_t i = 0; i <= la; i++)
+        d[i][0] = i;
     for (size_t j = 0; j <= lb; j++)
-        row[j] = j;
-    for (size_t i = 1; i <= la; i++) {
-        size_t prev = row[0];
-        row[0] = i;
+        d[0][j] = j;
+    for (size_t i = 1; i <= la; i++)
         for (size_t j = 1; j <= lb; j++) {
-            size_t cur = row[j];
-            size_t best = prev + (a[i - 1] != b[j - 1]);
-            if (row[j] + 1 < best) best = row[j] + 1;
-            if (row[j - 1] + 1 < best) best = row[j - 1] + 1;
-            row[j] = best;
-            prev = cur;
+            size_t best = d[i - 1][j - 1] + (a[i - 1] != b[j - 1]);
+            if (d[i - 1][j] + 1 < best) best = d[i - 1][j] + 1;
+            if (d[i][j - 1] + 1 < best) best = d[i][j - 1] + 1;
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] &&
+                d[i - 2][j - 2] + 1 < best)
+                best = d[i - 2][j - 2] + 1;
+            d[i][j] = best;
         }
-    }
-    return row[lb];
+    return d[la][lb];
 }
 
 void lf_open(lua_State *L, int arg, const char *const known[])
@@ -234,11 +238,17 @@ int lf_to_color(lua_State *L, int idx, lc_color *out, char *why, size_t whylen)
         return 0;
     }
     double ch[3] = {v.x, v.y, v.z};
-    for (int i = 0; i < 3; i++)
-        if (ch[i] < 0 || ch[i] > 3.4e38) {
+    for (int i = 0; i < 3; i++) {
+        if (ch[i] < 0) {
             snprintf(why, whylen, "component %s must be >= 0, got %g", ordinal[i], ch[i]);
             return 0;
         }
+        if (ch[i] > FLT_MAX) {       /* colours are stored as floats */
+            snprintf(why, whylen, "component %s must be at most %g, got %g", ordinal[i],
+                     (double)FLT_MAX, ch[i]);
+            return 0;
+        }
+    }
     out->r = (float)v.x;
     out->g = (float)v.y;
     out->b = (float)v.z;

@@ -1,4 +1,5 @@
 /* lua_lancer.c: the Lua binding, a thin layer over lancer.h (require "lancer.core"). */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <lauxlib.h>
@@ -20,6 +21,10 @@ typedef struct { lc_point_light l; } ud_light;
 typedef struct { lc_camera c; } ud_camera;
 typedef struct { lc_scene *s; } ud_scene;         /* user value 1: see w_scene */
 typedef struct { lc_image *img; } ud_image;
+
+/* Mirror bounces: the chain is a loop, so this only bounds the time a
+** render of two facing mirrors may take. */
+#define MAX_DEPTH 1000000
 
 static const char *const shape_names[LC_SHAPE_KINDS] = {"sphere", "quad", "box", "plane"};
 
@@ -378,7 +383,7 @@ static ud_scene *check_scene(lua_State *L, int idx)
 {
     ud_scene *u = luaL_checkudata(L, idx, SCENE);
     if (!u->s)
-        luaL_error(L, "lancer.Scene already freed");
+        luaL_argerror(L, idx, "lancer.Scene already freed");
     return u;
 }
 
@@ -416,8 +421,9 @@ static int w_scene(lua_State *L)
     st.background = lf_color(L, 1, "background", 0, st.background);
     st.ambient = lf_color(L, 1, "ambient", 0, st.ambient);
     st.max_depth = lf_integer(L, 1, "max_depth", 0, st.max_depth);
-    if (st.max_depth < 0)
-        return lf_error(L, 1, "max_depth", "must be >= 0, got %d", st.max_depth);
+    if (st.max_depth < 0 || st.max_depth > MAX_DEPTH)
+        return lf_error(L, 1, "max_depth", "must be in [0, %d], got %d", MAX_DEPTH,
+                        st.max_depth);
     int has_camera = lf_present(L, 1, "camera");
     if (has_camera)
         lf_udata(L, 1, "camera", CAMERA, 1);   /* type check before allocating */
@@ -490,7 +496,34 @@ static int material_index(lua_State *L, ud_scene *u, int sidx, int midx, int arg
     return index;
 }
 
-/* Adds the object at idx: a shape, a light, or an array of them. */
+/* Raises unless the value at idx is a shape, a light or an array of them,
+** so that a bad call to add leaves the scene as it was. */
+static void check_addable(lua_State *L, int idx, int arg, int depth, lua_Integer elem)
+{
+    idx = lua_absindex(L, idx);
+    if (luaL_testudata(L, idx, SHAPE) || luaL_testudata(L, idx, LIGHT))
+        return;
+    if (lua_type(L, idx) == LUA_TTABLE && depth < 8) {
+        lua_Integer n = luaL_len(L, idx);
+        for (lua_Integer i = 1; i <= n; i++) {
+            lua_geti(L, idx, i);
+            check_addable(L, -1, arg, depth + 1, i);
+            lua_pop(L, 1);
+        }
+        return;
+    }
+    const char *got = luaL_typename(L, idx);
+    if (luaL_getmetafield(L, idx, "__name") == LUA_TSTRING)
+        got = lua_tostring(L, -1);
+    if (elem)
+        lua_pushfstring(L, "element %I: shape, light or array of them expected, got %s",
+                        elem, got);
+    else
+        lua_pushfstring(L, "shape, light or array of them expected, got %s", got);
+    luaL_argerror(L, arg, lua_tostring(L, -1));
+}
+
+/* Adds the object at idx, already checked: a shape, a light, or an array. */
 static void add_one(lua_State *L, ud_scene *u, int idx, int arg, int depth)
 {
     lc_error err;
@@ -510,20 +543,12 @@ static void add_one(lua_State *L, ud_scene *u, int idx, int arg, int depth)
             lf_raise(L, arg, &err);
         return;
     }
-    if (lua_type(L, idx) == LUA_TTABLE && depth < 8) {
-        lua_Integer n = luaL_len(L, idx);
-        for (lua_Integer i = 1; i <= n; i++) {
-            lua_geti(L, idx, i);
-            add_one(L, u, -1, arg, depth + 1);
-            lua_pop(L, 1);
-        }
-        return;
+    lua_Integer n = luaL_len(L, idx);
+    for (lua_Integer i = 1; i <= n; i++) {
+        lua_geti(L, idx, i);
+        add_one(L, u, -1, arg, depth + 1);
+        lua_pop(L, 1);
     }
-    const char *got = luaL_typename(L, idx);
-    if (luaL_getmetafield(L, idx, "__name") == LUA_TSTRING)
-        got = lua_tostring(L, -1);
-    lua_pushfstring(L, "shape, light or array of them expected, got %s", got);
-    luaL_argerror(L, arg, lua_tostring(L, -1));
 }
 
 static int w_scene_add(lua_State *L)
@@ -532,6 +557,8 @@ static int w_scene_add(lua_State *L)
     int n = lua_gettop(L);
     if (n < 2)
         return luaL_argerror(L, 2, "shape, light or array of them expected, got no value");
+    for (int i = 2; i <= n; i++)
+        check_addable(L, i, i, 0, 0);
     for (int i = 2; i <= n; i++)
         add_one(L, u, i, i, 0);
     lua_settop(L, 1);
@@ -615,10 +642,21 @@ static int w_scene_render(lua_State *L)
     o.width = lf_integer(L, 2, "width", 0, o.width);
     o.height = lf_integer(L, 2, "height", 0, o.height);
     o.samples = lf_integer(L, 2, "samples", 0, o.samples);
-    double seed = lf_number(L, 2, "seed", 0, 0);
-    if (seed < 0 || seed != (double)(long long)seed)
-        return lf_error(L, 2, "seed", "non-negative integer expected, got %g", seed);
-    o.seed = (uint64_t)seed;
+    o.seed = 0;
+    if (lua_getfield(L, 2, "seed") != LUA_TNIL) {
+        int isint;
+        if (lua_type(L, -1) != LUA_TNUMBER)
+            return lf_error(L, 2, "seed", "number expected, got %s", luaL_typename(L, -1));
+        double x = lua_tonumber(L, -1);
+        if (isnan(x))
+            return lf_error(L, 2, "seed", "NaN is not a number here");
+        lua_Integer seed = lua_tointegerx(L, -1, &isint);
+        if (!isint || seed < 0)
+            return lf_error(L, 2, "seed", "non-negative integer expected, got %s",
+                            luaL_tolstring(L, -1, NULL));
+        o.seed = (uint64_t)seed;
+    }
+    lua_pop(L, 1);
     o.threads = lf_integer(L, 2, "threads", 0, 0);
     o.cosine = lf_boolean(L, 2, "cosine", 1);
     apply_overrides(L, &o);
@@ -629,8 +667,12 @@ static int w_scene_render(lua_State *L)
     lc_stats st;
     lc_error err;
     ui->img = lc_scene_render(u->s, &o, &st, &err);
-    if (!ui->img)
+    if (!ui->img) {
+        if (strcmp(err.field, "camera") == 0)
+            return luaL_error(L, "render: the scene has no camera (set scene.camera = "
+                              "lancer.camera{...})");
         return lf_raise(L, 2, &err);
+    }
     push_stats(L, &st);
     return 2;
 }
@@ -648,8 +690,13 @@ static int w_scene_tostring(lua_State *L)
 
 static int w_scene_index(lua_State *L)
 {
-    ud_scene *u = check_scene(L, 1);
+    ud_scene *u = luaL_checkudata(L, 1, SCENE);
     const char *k = luaL_checkstring(L, 2);
+    if (!u->s) {             /* closed: methods still resolve, and raise there */
+        luaL_getmetafield(L, 1, "methods");
+        lua_getfield(L, -1, k);
+        return 1;
+    }
     lc_settings st = lc_scene_settings(u->s);
     if (strcmp(k, "camera") == 0) {
         lua_getiuservalue(L, 1, 1);
@@ -682,10 +729,12 @@ static int w_scene_newindex(lua_State *L)
             return luaL_error(L, "scene.%s: %s", k, why);
         *(k[0] == 'b' ? &st.background : &st.ambient) = c;
     } else if (strcmp(k, "max_depth") == 0) {
-        if (!lua_isinteger(L, 3) || lua_tointeger(L, 3) < 0 || lua_tointeger(L, 3) > 1000000)
-            return luaL_error(L, "scene.max_depth: integer >= 0 expected, got %s",
-                              luaL_tolstring(L, 3, NULL));
-        st.max_depth = (int)lua_tointeger(L, 3);
+        int isint;
+        lua_Integer d = lua_tointegerx(L, 3, &isint);
+        if (lua_type(L, 3) != LUA_TNUMBER || !isint || d < 0 || d > MAX_DEPTH)
+            return luaL_error(L, "scene.max_depth: integer in [0, %d] expected, got %s",
+                              MAX_DEPTH, luaL_tolstring(L, 3, NULL));
+        st.max_depth = (int)d;
     } else {
         return luaL_error(L, "scene.%s: unknown field; settable fields are camera, "
                           "background, ambient, max_depth", k);
@@ -702,7 +751,7 @@ static lc_image *check_image(lua_State *L, int idx)
 {
     ud_image *u = luaL_checkudata(L, idx, IMAGE);
     if (!u->img)
-        luaL_error(L, "lancer.Image already freed");
+        luaL_argerror(L, idx, "lancer.Image already freed");
     return u->img;
 }
 
@@ -720,7 +769,8 @@ static int w_image_save(lua_State *L)
 {
     static const char *const known[] = {"encoding", NULL};
     lc_image *img = check_image(L, 1);
-    const char *path = luaL_checkstring(L, 2);
+    luaL_checktype(L, 2, LUA_TSTRING);       /* a number is no file name */
+    const char *path = lua_tostring(L, 2);
     lc_encoding enc = LC_ENCODE_SRGB;
     if (!lua_isnoneornil(L, 3)) {
         lf_open(L, 3, known);
@@ -728,7 +778,7 @@ static int w_image_save(lua_State *L)
     }
     lc_error err;
     if (lc_image_save_png(img, path, enc, &err))
-        return luaL_error(L, "%s", err.msg);
+        return luaL_argerror(L, 2, err.msg);     /* names 'save' and the path */
     lua_settop(L, 1);
     return 1;
 }
