@@ -5,6 +5,9 @@ void box_prepare(const lc_shape *s, box_geom *g)
 {
     lc_vec3 e[3] = {s->u, s->v, s->w};
     g->q = s->p;
+    g->e[0] = s->u;
+    g->e[1] = s->v;
+    g->e[2] = s->w;
     g->aligned = s->u.y == 0 && s->u.z == 0 && s->v.x == 0 && s->v.z == 0 &&
                  s->w.x == 0 && s->w.y == 0;
     double det = v3_dot(s->u, v3_cross(s->v, s->w));

@@ -1,114 +1,196 @@
-/* compile.c: turns a scene description into what one render reads, and
-** decides once which effects the frame needs. */
+/* compile.c: what a render needs from the scene: the BVH over every bounded
+** primitive, the triangle list, and the effects the frame calls for. */
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include "error.h"
 #include "scene.h"
 
 void compiled_free(compiled *c)
 {
-    free(c->spheres);
-    free(c->quads);
-    free(c->boxes);
-    free(c->planes);
-    free(c->emitters);
+    free(c->tris);
+    bvh_free(&c->bvh);
     memset(c, 0, sizeof *c);
 }
 
-static int emits(const lc_material *m) { return !c_is_black(m->emission); }
-
-static void make_emitter(const lc_shape *sh, uint32_t id, const lc_material *m, emitter *e)
+static double now(void)
 {
-    memset(e, 0, sizeof *e);
-    e->shape = id;
-    e->kind = sh->kind;
-    e->emission = m->emission;
-    switch (sh->kind) {
-    case LC_SPHERE:
-        e->target = sh->p;
-        e->radius = sh->radius;
-        break;
-    case LC_QUAD:
-        e->target = v3_add(sh->p, v3_mul(v3_add(sh->u, sh->v), 0.5));
-        e->area[0] = v3_cross(sh->u, sh->v);
-        break;
-    case LC_BOX:
-        e->target = v3_add(sh->p, v3_mul(v3_add(v3_add(sh->u, sh->v), sh->w), 0.5));
-        e->area[0] = v3_cross(sh->v, sh->w);
-        e->area[1] = v3_cross(sh->w, sh->u);
-        e->area[2] = v3_cross(sh->u, sh->v);
-        break;
-    default:
-        break;
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* A bound one ulp outside the double it comes from, then rounded outward to
+** float: the box contains the shape whatever the rounding of c - r or q + u. */
+static void grow(float lo[3], float hi[3], lc_vec3 p)
+{
+    double c[3] = {p.x, p.y, p.z};
+    for (int k = 0; k < 3; k++) {
+        float a = bvh_down(nextafter(c[k], -HUGE_VAL));
+        float b = bvh_up(nextafter(c[k], HUGE_VAL));
+        if (a < lo[k]) lo[k] = a;
+        if (b > hi[k]) hi[k] = b;
     }
 }
 
-lc_status scene_compile(lc_scene *s, int max_depth, lc_error *err)
+static void empty(float lo[3], float hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        lo[k] = HUGE_VALF;
+        hi[k] = -HUGE_VALF;
+    }
+}
+
+static int degenerate(const double *a, const double *b, const double *c)
+{
+    lc_vec3 p = v3(a[0], a[1], a[2]);
+    lc_vec3 n = v3_cross(v3_sub(v3(b[0], b[1], b[2]), p), v3_sub(v3(c[0], c[1], c[2]), p));
+    double l = v3_dot(n, n);
+    return !(l > 0 && isfinite(l));
+}
+
+/* Lists the non-degenerate triangles: a zero-area face can never be hit,
+** and skipping it here keeps NaN normals out of the renderer. */
+static lc_status list_triangles(lc_scene *s, lc_error *err)
 {
     compiled *c = &s->c;
-    size_t count[LC_SHAPE_KINDS] = {0}, nemit = 0;
-    compiled_free(c);
-    for (size_t i = 0; i < s->nshapes; i++) {
-        count[s->shapes[i].kind]++;
-        if (s->shapes[i].kind != LC_PLANE && emits(&s->materials[s->shape_material[i]]))
-            nemit++;
+    size_t total = 0;
+    for (size_t i = 0; i < s->nmeshes; i++)
+        total += s->meshes[i].mesh->nf;
+    if (total > PRIM_MAX)
+        return lc_fail(err, LC_EARG, NULL, "too many triangles: %zu (at most %zu)", total,
+                       PRIM_MAX);
+    c->tris = malloc((total + 1) * sizeof *c->tris);
+    if (!c->tris)
+        return lc_fail(err, LC_ENOMEM, NULL, "out of memory listing %zu triangles", total);
+    for (size_t i = 0; i < s->nmeshes; i++) {
+        const lc_mesh *m = s->meshes[i].mesh;
+        for (size_t f = 0; f < m->nf; f++) {
+            const uint32_t *ix = m->f + 3 * f;
+            if (degenerate(m->v + 3 * ix[0], m->v + 3 * ix[1], m->v + 3 * ix[2])) {
+                c->degenerate++;
+                continue;
+            }
+            c->tris[c->ntris].mesh = (uint32_t)i;
+            c->tris[c->ntris++].face = (uint32_t)f;
+        }
     }
-    c->spheres = malloc((count[LC_SPHERE] + 1) * sizeof *c->spheres);
-    c->quads = malloc((count[LC_QUAD] + 1) * sizeof *c->quads);
-    c->boxes = malloc((count[LC_BOX] + 1) * sizeof *c->boxes);
-    c->planes = malloc((count[LC_PLANE] + 1) * sizeof *c->planes);
-    c->emitters = malloc((nemit + 1) * sizeof *c->emitters);
-    if (!c->spheres || !c->quads || !c->boxes || !c->planes || !c->emitters) {
-        compiled_free(c);
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory compiling %zu shapes",
-                       s->nshapes);
-    }
+    c->faces_seen = total;
+    return LC_OK;
+}
 
+static void item_init(bvh_item *it, uint32_t id)
+{
+    empty(it->lo, it->hi);
+    it->id = id;
+}
+
+static lc_status build_bvh(lc_scene *s, lc_error *err)
+{
+    compiled *c = &s->c;
+    size_t n = s->nspheres + s->nquads + s->nboxes + c->ntris;
+    bvh_item *items = malloc((n + 1) * sizeof *items);
+    if (!items)
+        return lc_fail(err, LC_ENOMEM, NULL, "out of memory bounding %zu primitives", n);
+    bvh_item *it = items;
+    for (size_t i = 0; i < s->nspheres; i++, it++) {
+        const sphere_geom *g = &s->spheres[i].g;
+        item_init(it, PRIM_ID(PRIM_SPHERE, i));
+        grow(it->lo, it->hi, v3(g->c.x - g->r, g->c.y - g->r, g->c.z - g->r));
+        grow(it->lo, it->hi, v3(g->c.x + g->r, g->c.y + g->r, g->c.z + g->r));
+    }
+    for (size_t i = 0; i < s->nquads; i++, it++) {
+        const quad_geom *g = &s->quads[i].g;
+        item_init(it, PRIM_ID(PRIM_QUAD, i));
+        grow(it->lo, it->hi, g->q);
+        grow(it->lo, it->hi, v3_add(g->q, g->u));
+        grow(it->lo, it->hi, v3_add(g->q, g->v));
+        grow(it->lo, it->hi, v3_add(v3_add(g->q, g->u), g->v));
+    }
+    for (size_t i = 0; i < s->nboxes; i++, it++) {
+        const box_geom *g = &s->boxes[i].g;
+        item_init(it, PRIM_ID(PRIM_BOX, i));
+        for (int corner = 0; corner < 8; corner++) {
+            lc_vec3 p = g->q;
+            for (int e = 0; e < 3; e++)
+                if (corner & (1 << e))
+                    p = v3_add(p, g->e[e]);
+            grow(it->lo, it->hi, p);
+        }
+    }
+    for (size_t i = 0; i < c->ntris; i++, it++) {
+        const lc_mesh *m = s->meshes[c->tris[i].mesh].mesh;
+        const uint32_t *ix = m->f + 3 * c->tris[i].face;
+        item_init(it, PRIM_ID(PRIM_TRIANGLE, i));
+        for (int j = 0; j < 3; j++) {     /* vertices are exact doubles: no ulp needed */
+            const double *v = m->v + 3 * ix[j];
+            for (int a = 0; a < 3; a++) {
+                float fl = bvh_down(v[a]), fh = bvh_up(v[a]);
+                if (fl < it->lo[a]) it->lo[a] = fl;
+                if (fh > it->hi[a]) it->hi[a] = fh;
+            }
+        }
+    }
+    return bvh_build(&c->bvh, items, n, err);
+}
+
+/* Which effects some primitive can show: an effect no material in use calls
+** for is never reached by the render loop, and spawns no ray. */
+static unsigned decide_needs(const lc_scene *s)
+{
+    unsigned char *used = calloc(s->nmaterials + 1, 1);
     int lit = 0, specular = 0, reflect = 0, ambient = 0;
-    for (size_t i = 0; i < s->nshapes; i++) {
-        const lc_shape *sh = &s->shapes[i];
-        int mi = s->shape_material[i];
-        const lc_material *m = &s->materials[mi];
-        uint32_t id = (uint32_t)i;
-        switch (sh->kind) {
-        case LC_SPHERE: {
-            sphere_prim *p = &c->spheres[c->nspheres++];
-            sphere_prepare(sh, &p->g); p->shape = id; p->material = mi;
-            break;
+    if (!used) {
+        lit = specular = reflect = ambient = 1;   /* unsure: keep everything */
+    } else {
+#define MARK(arr, n) for (size_t i = 0; i < (n); i++) used[(arr)[i].material] = 1;
+        MARK(s->spheres, s->nspheres)
+        MARK(s->quads, s->nquads)
+        MARK(s->boxes, s->nboxes)
+        MARK(s->planes, s->nplanes)
+        MARK(s->meshes, s->nmeshes)
+#undef MARK
+        for (size_t i = 0; i < s->nmaterials; i++) {
+            const lc_material *m = &s->materials[i];
+            if (!used[i])
+                continue;
+            lit |= m->kd > 0 || m->ks > 0;
+            specular |= m->ks > 0;
+            reflect |= m->kr > 0;
+            ambient |= m->ka > 0;
         }
-        case LC_QUAD: {
-            quad_prim *p = &c->quads[c->nquads++];
-            quad_prepare(sh, &p->g); p->shape = id; p->material = mi;
-            break;
-        }
-        case LC_BOX: {
-            box_prim *p = &c->boxes[c->nboxes++];
-            box_prepare(sh, &p->g); p->shape = id; p->material = mi;
-            break;
-        }
-        default: {
-            plane_prim *p = &c->planes[c->nplanes++];
-            plane_prepare(sh, &p->g); p->shape = id; p->material = mi;
-            break;
-        }
-        }
-        if (sh->kind != LC_PLANE && emits(m))
-            make_emitter(sh, id, m, &c->emitters[c->nemitters++]);
-        lit |= m->kd > 0 || m->ks > 0;
-        specular |= m->ks > 0;
-        reflect |= m->kr > 0;
-        ambient |= m->ka > 0;
+        free(used);
     }
+    unsigned needs = 0;
+    int has_lights = s->nlights > 0 || s->nemitters > 0;
+    if (lit && s->nlights > 0) needs |= LC_NEED_SHADOW;
+    if (lit && s->nemitters > 0) needs |= LC_NEED_EMITTER;
+    if (specular && has_lights) needs |= LC_NEED_SPECULAR;
+    if (reflect && s->settings.max_depth > 0) needs |= LC_NEED_REFLECT;
+    if (ambient && !c_is_black(s->settings.ambient)) needs |= LC_NEED_AMBIENT;
+    return needs;
+}
 
-    /* An effect no visible material can show costs nothing: its code is
-    ** never reached, and its rays are never spawned. */
-    int has_lights = s->nlights > 0 || c->nemitters > 0;
-    c->needs = 0;
-    if (lit && s->nlights > 0) c->needs |= LC_NEED_SHADOW;
-    if (lit && c->nemitters > 0) c->needs |= LC_NEED_EMITTER;
-    if (specular && has_lights) c->needs |= LC_NEED_SPECULAR;
-    if (reflect && max_depth > 0) c->needs |= LC_NEED_REFLECT;
-    if (ambient && !c_is_black(s->settings.ambient)) c->needs |= LC_NEED_AMBIENT;
+lc_status scene_compile(lc_scene *s, lc_error *err)
+{
+    compiled *c = &s->c;
+    size_t faces = 0;
+    for (size_t i = 0; i < s->nmeshes; i++)
+        faces += s->meshes[i].mesh->nf;
+    double t0 = now();
+    if (!c->valid || c->faces_seen != faces) {     /* geometry changed since */
+        compiled_free(c);
+        lc_status st = list_triangles(s, err);
+        if (st == LC_OK)
+            st = build_bvh(s, err);
+        if (st != LC_OK) {
+            compiled_free(c);
+            return st;
+        }
+        c->valid = 1;
+    }
+    c->needs = decide_needs(s);
+    c->seconds = now() - t0;
     lc_ok(err);
     return LC_OK;
 }

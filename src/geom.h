@@ -14,9 +14,17 @@ typedef struct {
     lc_vec3  p;        /* hit point, on the surface within perr */
     lc_vec3  perr;     /* per-component bound of p's rounding error */
     lc_vec3  n;        /* unit geometric normal, outward for solids */
+    lc_vec3  ns;       /* unit shading normal: n, or interpolated on meshes */
+    double   bary[3];  /* triangles: barycentric coordinates of p */
     int      material;
-    uint32_t shape;    /* index in the scene's shape list */
+    uint32_t shape;    /* the primitive's id (scene.h: PRIM_ID) */
 } lc_hit;
+
+/* Per-ray constants of the watertight triangle test. */
+typedef struct {
+    int    kx, ky, kz;
+    double sx, sy, sz;
+} tri_shear;
 
 /* Prepared shapes: what compile derives once so a hit test does no setup. */
 typedef struct {
@@ -35,6 +43,7 @@ typedef struct {
 
 typedef struct {
     lc_vec3 q;         /* corner */
+    lc_vec3 e[3];      /* edges u, v, w */
     lc_vec3 row[3];    /* rows of the inverse edge matrix: local = row . (x - q) */
     lc_vec3 un[3];     /* unit outward normal of the face where local coord i = 1 */
     double  lo[3], hi[3];  /* axis-aligned boxes: exact face coordinates */
@@ -54,6 +63,10 @@ int sphere_hit(const sphere_geom *s, const lc_ray *r, double tmin, double tmax, 
 int quad_hit(const quad_geom *q, const lc_ray *r, double tmin, double tmax, lc_hit *h);
 int box_hit(const box_geom *b, const lc_ray *r, double tmin, double tmax, lc_hit *h);
 int plane_hit(const plane_geom *p, const lc_ray *r, double tmin, double tmax, lc_hit *h);
+/* v0, v1, v2 point at 3 doubles each; fills bary with the weights of p. */
+int tri_hit(const double *v0, const double *v1, const double *v2, const lc_ray *r,
+            const tri_shear *s, double tmin, double tmax, lc_hit *h, double bary[3]);
+void tri_shear_init(lc_vec3 d, tri_shear *s);
 
 void sphere_prepare(const lc_shape *s, sphere_geom *g);
 void quad_prepare(const lc_shape *s, quad_geom *g);

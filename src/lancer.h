@@ -58,6 +58,23 @@ typedef struct {
 
 lc_status lc_shape_check(const lc_shape *s, lc_error *err); /* sizes, NaN, parallel */
 
+/* ---- Meshes ---------------------------------------------------------------- */
+
+/* A triangle mesh; scenes that hold it keep it alive, so the same mesh can be
+** added many times and is stored once. Faces index vertices from 0. */
+typedef struct lc_mesh lc_mesh;
+
+lc_mesh  *lc_mesh_new(lc_error *err);
+void      lc_mesh_free(lc_mesh *m);                     /* NULL is a no-op */
+lc_status lc_mesh_add_vertices(lc_mesh *m, const double *xyz, size_t n, lc_error *err);
+lc_status lc_mesh_add_normals(lc_mesh *m, const double *xyz, size_t n, lc_error *err);
+lc_status lc_mesh_add_faces(lc_mesh *m, const uint32_t *abc, size_t n, lc_error *err);
+size_t    lc_mesh_vertex_count(const lc_mesh *m);
+size_t    lc_mesh_face_count(const lc_mesh *m);
+/* Reads v, vn and f statements (negative indices; polygons become fans);
+** other statements are skipped; errors name the file and the line. */
+lc_mesh  *lc_mesh_load_obj(const char *path, lc_error *err);
+
 /* ---- Lights and camera ----------------------------------------------------- */
 
 typedef enum { LC_FALLOFF_INVERSE_SQUARE, LC_FALLOFF_NONE } lc_falloff;
@@ -99,6 +116,7 @@ lc_status lc_scene_set_camera(lc_scene *s, const lc_camera *c, lc_error *err);
 int       lc_scene_add_material(lc_scene *s, const lc_material *m, lc_error *err);
 int       lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material,
                              lc_error *err);            /* id >= 0, or -1 */
+int       lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err);
 int       lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err);
 size_t    lc_scene_shape_count(const lc_scene *s);
 size_t    lc_scene_light_count(const lc_scene *s);
@@ -149,6 +167,9 @@ typedef struct {
     uint64_t rays[LC_RAY_KINDS];
     unsigned needs;              /* LC_NEED_* bits */
     int      threads;
+    size_t   bvh_nodes;          /* nodes of the hierarchy over bounded shapes */
+    size_t   primitives;         /* shapes plus mesh triangles, as traced */
+    size_t   degenerate;         /* zero-area triangles skipped */
 } lc_stats;
 
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,

@@ -165,7 +165,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         return NULL;
     }
     double t0 = now();
-    if (scene_compile(s, s->settings.max_depth, err))
+    if (scene_compile(s, err))
         return NULL;
     double t1 = now();
     lc_image *img = lc_image_new(o->width, o->height, err);
@@ -199,7 +199,6 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     for (int i = 0; i < nt; i++) {
         ws[i].j = &j;
         ws[i].t.scene = s;
-        ws[i].t.c = &s->c;
         ws[i].t.needs = s->c.needs;
         ws[i].t.max_depth = s->settings.max_depth;
         ws[i].t.cosine = o->cosine;
@@ -253,6 +252,9 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     sum.trace_seconds = t2 - t1;
     sum.seconds = t2 - t0;
     sum.needs = s->c.needs;
+    sum.bvh_nodes = s->c.bvh.nnodes;
+    sum.primitives = s->nspheres + s->nquads + s->nboxes + s->nplanes + s->c.ntris;
+    sum.degenerate = s->c.degenerate;
     sum.threads = started ? started : 1;
     int cancelled = j.cancel;
     free(ws);

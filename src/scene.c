@@ -4,7 +4,7 @@
 #include "error.h"
 #include "scene.h"
 
-/* Grows *arr to hold one more element of `size` bytes; 0 on failure. */
+/* Makes room for one more element of `size` bytes in *arr. */
 static int grow(void **arr, size_t *cap, size_t n, size_t size)
 {
     if (n < *cap)
@@ -19,6 +19,7 @@ static int grow(void **arr, size_t *cap, size_t n, size_t size)
     *cap = nc;
     return 1;
 }
+#define GROW(s, name) grow((void **)&(s)->name, &(s)->cap##name, (s)->n##name, sizeof *(s)->name)
 
 lc_scene *lc_scene_new(lc_error *err)
 {
@@ -37,9 +38,15 @@ void lc_scene_free(lc_scene *s)
     if (!s)
         return;
     compiled_free(&s->c);
+    for (size_t i = 0; i < s->nmeshes; i++)
+        lc_mesh_free(s->meshes[i].mesh);
     free(s->materials);
-    free(s->shapes);
-    free(s->shape_material);
+    free(s->spheres);
+    free(s->quads);
+    free(s->boxes);
+    free(s->planes);
+    free(s->meshes);
+    free(s->emitters);
     free(s->lights);
     free(s);
 }
@@ -77,40 +84,116 @@ int lc_scene_add_material(lc_scene *s, const lc_material *m, lc_error *err)
 {
     if (lc_material_check(m, err))
         return -1;
-    if (s->nmaterials >= (size_t)1 << 30 ||
-        !grow((void **)&s->materials, &s->capmaterials, s->nmaterials, sizeof *m)) {
+    if (s->nmaterials >= PRIM_MAX || !GROW(s, materials)) {
         lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a material");
         return -1;
     }
     s->materials[s->nmaterials] = *m;
+    s->c.valid = 0;
     return (int)s->nmaterials++;
+}
+
+static int check_material(const lc_scene *s, int material, lc_error *err)
+{
+    if (material < 0 || (size_t)material >= s->nmaterials) {
+        lc_fail(err, LC_EARG, "material", "no material %d in this scene", material);
+        return 0;
+    }
+    return 1;
+}
+
+static void make_emitter(const lc_shape *sh, uint32_t id, const lc_material *m, emitter *e)
+{
+    memset(e, 0, sizeof *e);
+    e->shape = id;
+    e->kind = sh->kind;
+    e->emission = m->emission;
+    if (sh->kind == LC_SPHERE) {
+        e->target = sh->p;
+        e->radius = sh->radius;
+    } else if (sh->kind == LC_QUAD) {
+        e->target = v3_add(sh->p, v3_mul(v3_add(sh->u, sh->v), 0.5));
+        e->area[0] = v3_cross(sh->u, sh->v);
+    } else {
+        e->target = v3_add(sh->p, v3_mul(v3_add(v3_add(sh->u, sh->v), sh->w), 0.5));
+        e->area[0] = v3_cross(sh->v, sh->w);
+        e->area[1] = v3_cross(sh->w, sh->u);
+        e->area[2] = v3_cross(sh->u, sh->v);
+    }
 }
 
 int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *err)
 {
-    if (lc_shape_check(sh, err))
+    if (lc_shape_check(sh, err) || !check_material(s, material, err))
         return -1;
-    if (material < 0 || (size_t)material >= s->nmaterials) {
-        lc_fail(err, LC_EARG, "material", "no material %d in this scene", material);
-        return -1;
+    int ok;
+    uint32_t id = 0;
+    switch (sh->kind) {
+    case LC_SPHERE:
+        ok = s->nspheres < PRIM_MAX && GROW(s, spheres);
+        if (ok) {
+            sphere_prepare(sh, &s->spheres[s->nspheres].g);
+            s->spheres[s->nspheres].material = material;
+            id = PRIM_ID(PRIM_SPHERE, s->nspheres++);
+        }
+        break;
+    case LC_QUAD:
+        ok = s->nquads < PRIM_MAX && GROW(s, quads);
+        if (ok) {
+            quad_prepare(sh, &s->quads[s->nquads].g);
+            s->quads[s->nquads].material = material;
+            id = PRIM_ID(PRIM_QUAD, s->nquads++);
+        }
+        break;
+    case LC_BOX:
+        ok = s->nboxes < PRIM_MAX && GROW(s, boxes);
+        if (ok) {
+            box_prepare(sh, &s->boxes[s->nboxes].g);
+            s->boxes[s->nboxes].material = material;
+            id = PRIM_ID(PRIM_BOX, s->nboxes++);
+        }
+        break;
+    default:
+        ok = s->nplanes < PRIM_MAX && GROW(s, planes);
+        if (ok) {
+            plane_prepare(sh, &s->planes[s->nplanes].g);
+            s->planes[s->nplanes].material = material;
+            id = PRIM_ID(PRIM_PLANE, s->nplanes++);
+        }
+        break;
     }
-    size_t cap = s->capshapes;
-    if (s->nshapes >= 0x7fffffff ||
-        !grow((void **)&s->shapes, &cap, s->nshapes, sizeof *sh)) {
+    if (!ok) {
         lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a shape");
         return -1;
     }
-    if (cap != s->capshapes) {
-        int *m = realloc(s->shape_material, cap * sizeof *m);
-        if (!m) {
+    const lc_material *m = &s->materials[material];
+    if (sh->kind != LC_PLANE && !c_is_black(m->emission)) {
+        if (!GROW(s, emitters)) {
             lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a shape");
             return -1;
         }
-        s->shape_material = m;
-        s->capshapes = cap;
+        make_emitter(sh, id, m, &s->emitters[s->nemitters++]);
     }
-    s->shapes[s->nshapes] = *sh;
-    s->shape_material[s->nshapes] = material;
+    s->c.valid = 0;
+    return (int)s->nshapes++;
+}
+
+int lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err)
+{
+    if (!check_material(s, material, err))
+        return -1;
+    if (m->nn != 0 && m->nn != m->nv) {
+        lc_fail(err, LC_EARG, "normals", "mesh has %zu normals for %zu vertices", m->nn,
+                m->nv);
+        return -1;
+    }
+    if (s->nmeshes >= PRIM_MAX || !GROW(s, meshes)) {
+        lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
+        return -1;
+    }
+    s->meshes[s->nmeshes].mesh = mesh_retain(m);
+    s->meshes[s->nmeshes++].material = material;
+    s->c.valid = 0;
     return (int)s->nshapes++;
 }
 
@@ -118,12 +201,12 @@ int lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err)
 {
     if (lc_point_light_check(l, err))
         return -1;
-    if (s->nlights >= (size_t)1 << 30 ||
-        !grow((void **)&s->lights, &s->caplights, s->nlights, sizeof *l)) {
+    if (s->nlights >= PRIM_MAX || !GROW(s, lights)) {
         lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a light");
         return -1;
     }
     s->lights[s->nlights] = *l;
+    s->c.valid = 0;
     return (int)s->nlights++;
 }
 

@@ -1,18 +1,33 @@
-/* scene.h: the scene as described, and as compiled for one render. */
+/* scene.h: the scene as described, and what compile derives for a render. */
 #ifndef LC_SCENE_H
 #define LC_SCENE_H
 
+#include "bvh.h"
 #include "geom.h"
+#include "mesh.h"
 
-typedef struct { sphere_geom g; uint32_t shape; int material; } sphere_prim;
-typedef struct { quad_geom g;   uint32_t shape; int material; } quad_prim;
-typedef struct { box_geom g;    uint32_t shape; int material; } box_prim;
-typedef struct { plane_geom g;  uint32_t shape; int material; } plane_prim;
+/* A primitive's id: its kind in the top 3 bits, its index in that kind's
+** array below. Ids order ties between equally near hits. */
+enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE };
+#define PRIM_ID(kind, index) (((uint32_t)(kind) << 29) | (uint32_t)(index))
+#define PRIM_KIND(id)        ((unsigned)((id) >> 29))
+#define PRIM_INDEX(id)       ((id) & 0x1fffffffu)
+#define PRIM_MAX             ((size_t)1 << 29)
+
+/* Shapes are prepared when added: the render reads them as they are. */
+typedef struct { sphere_geom g; int material; } sphere_prim;
+typedef struct { quad_geom g;   int material; } quad_prim;
+typedef struct { box_geom g;    int material; } box_prim;
+typedef struct { plane_geom g;  int material; } plane_prim;
+typedef struct { lc_mesh *mesh; int material; } mesh_prim;
+
+/* One triangle of the compiled scene: which mesh, which face. */
+typedef struct { uint32_t mesh, face; } tri_ref;
 
 /* An emissive shape used as a light (the seed's model): it lights a point
 ** when the ray toward `target` meets nothing before the emitter itself. */
 typedef struct {
-    uint32_t shape;
+    uint32_t shape;      /* PRIM_ID */
     lc_shape_kind kind;
     lc_vec3  target;     /* sphere centre, quad or box centre */
     double   radius;     /* sphere */
@@ -20,33 +35,43 @@ typedef struct {
     lc_color emission;
 } emitter;
 
-/* The compiled frame: everything the render loop reads, nothing it writes. */
+/* What one render reads and never writes. */
 typedef struct {
-    sphere_prim *spheres; size_t nspheres;
-    quad_prim   *quads;   size_t nquads;
-    box_prim    *boxes;   size_t nboxes;
-    plane_prim  *planes;  size_t nplanes;
-    emitter     *emitters; size_t nemitters;
-    unsigned     needs;   /* LC_NEED_* */
+    tri_ref *tris;
+    size_t   ntris, degenerate;
+    bvh      bvh;          /* over spheres, quads, boxes and triangles */
+    unsigned needs;        /* LC_NEED_* */
+    double   seconds;
+    int      valid;        /* matches the scene as it is now */
+    size_t   faces_seen;   /* total mesh faces when compiled: meshes may grow */
+    int      depth_seen;
 } compiled;
 
+#define SCENE_ARRAY(type, name) type *name; size_t n##name, cap##name
+
 struct lc_scene {
-    lc_settings     settings;
-    lc_camera       camera;
-    int             has_camera;
-    lc_material    *materials; size_t nmaterials, capmaterials;
-    lc_shape       *shapes;    size_t nshapes, capshapes;
-    int            *shape_material;
-    lc_point_light *lights;    size_t nlights, caplights;
-    compiled        c;
+    lc_settings settings;
+    lc_camera   camera;
+    int         has_camera;
+    size_t      nshapes;           /* shapes and meshes added, for ids */
+    SCENE_ARRAY(lc_material, materials);
+    SCENE_ARRAY(sphere_prim, spheres);
+    SCENE_ARRAY(quad_prim, quads);
+    SCENE_ARRAY(box_prim, boxes);
+    SCENE_ARRAY(plane_prim, planes);
+    SCENE_ARRAY(mesh_prim, meshes);
+    SCENE_ARRAY(emitter, emitters);
+    SCENE_ARRAY(lc_point_light, lights);
+    compiled    c;
 };
 
-lc_status scene_compile(lc_scene *s, int max_depth_override, lc_error *err);
+lc_status scene_compile(lc_scene *s, lc_error *err);
 void      compiled_free(compiled *c);
+lc_mesh  *mesh_retain(lc_mesh *m);
 
 /* Nearest hit with 0 < t < tmax; 1 if any. */
-int scene_closest(const compiled *c, const lc_ray *r, double tmax, lc_hit *h);
+int scene_closest(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h);
 /* 1 if anything lies on the ray with 0 < t < tmax. */
-int scene_occluded(const compiled *c, const lc_ray *r, double tmax);
+int scene_occluded(const lc_scene *s, const lc_ray *r, double tmax);
 
 #endif

@@ -48,7 +48,7 @@ static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, lc_ve
         double sd = v3_len(so);
         sr.d = v3_mul(so, 1.0 / sd);
         t->rays[LC_RAY_SHADOW]++;
-        if (scene_occluded(t->c, &sr, sd * (1 - SHADOW_SHORTEN)))
+        if (scene_occluded(t->scene, &sr, sd * (1 - SHADOW_SHORTEN)))
             continue;
         double k = L->intensity;
         if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)
@@ -64,10 +64,10 @@ static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, lc_ve
 static void emitters(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n,
                      lc_vec3 v, light_sum *sum)
 {
-    const compiled *c = t->c;
+    const lc_scene *s = t->scene;
     double tooclose = 4 * v3_len(h->perr);
-    for (size_t i = 0; i < c->nemitters; i++) {
-        const emitter *e = &c->emitters[i];
+    for (size_t i = 0; i < s->nemitters; i++) {
+        const emitter *e = &s->emitters[i];
         if (e->shape == h->shape)
             continue;
         lc_vec3 tol = v3_sub(e->target, h->p);
@@ -85,7 +85,7 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n
         sr.d = v3_mul(so, 1.0 / sd);
         t->rays[LC_RAY_SHADOW]++;
         lc_hit blk;
-        if (scene_closest(c, &sr, sd * (1 - SHADOW_SHORTEN), &blk) && blk.shape != e->shape)
+        if (scene_closest(t->scene, &sr, sd * (1 - SHADOW_SHORTEN), &blk) && blk.shape != e->shape)
             continue;
         double k;
         if (e->kind == LC_SPHERE) {
@@ -112,10 +112,10 @@ lc_color trace_ray(tracer *t, const lc_ray *r0, int depth)
     lc_color acc = {0, 0, 0}, w = {1, 1, 1};
     for (;;) {
         lc_hit h;
-        if (!scene_closest(t->c, &r, HUGE_VAL, &h))
+        if (!scene_closest(t->scene, &r, HUGE_VAL, &h))
             return c_add(acc, c_mul(w, t->scene->settings.background));
         const lc_material *m = &t->scene->materials[h.material];
-        lc_vec3 n = v3_dot(h.n, r.d) > 0 ? v3_neg(h.n) : h.n;   /* face the viewer */
+        lc_vec3 n = v3_dot(h.n, r.d) > 0 ? v3_neg(h.ns) : h.ns;  /* face the viewer */
         lc_vec3 v = v3_neg(r.d);
 
         light_sum sum = {{0, 0, 0}, {0, 0, 0}};
@@ -139,7 +139,7 @@ lc_color trace_ray(tracer *t, const lc_ray *r0, int depth)
         acc = c_add(acc, c_mul(w, c_add(local, m->emission)));
         if (!((t->needs & LC_NEED_REFLECT) && m->kr > 0 && depth < t->max_depth))
             return acc;
-        lc_vec3 rd = v3_madd(r.d, h.n, -2 * v3_dot(r.d, h.n));   /* kr Cr */
+        lc_vec3 rd = v3_madd(r.d, n, -2 * v3_dot(r.d, n));       /* kr Cr */
         r.o = spawn_origin(&h, rd);
         r.d = v3_norm(rd);
         t->rays[LC_RAY_REFLECTION]++;

@@ -6,7 +6,6 @@
 
 typedef struct {
     const lc_scene *scene;
-    const compiled *c;
     unsigned needs;            /* copy of c->needs, minus what options turn off */
     int      max_depth;
     int      cosine;

@@ -1,0 +1,39 @@
+-- b2.lua: BENCH.md's B2 "many spheres": N spheres scattered on a ground plane.
+-- Usage: lancer scenes/bench/b2.lua N [out.png] [samples]
+local lancer = require "lancer"
+local N = tonumber(arg and arg[1]) or 1000
+local out = arg and arg[2]
+
+-- The benchmark's PRNG (a 64-bit LCG; Lua integers wrap mod 2^64).
+local s = 1
+local function u()
+  s = s * 6364136223846793005 + 1442695040888963407
+  return (s >> 11) * (1.0 / 9007199254740992.0)
+end
+
+local PALETTE = {{0.9, 0.2, 0.2}, {0.2, 0.9, 0.2}, {0.2, 0.3, 0.9}, {0.9, 0.9, 0.2},
+                 {0.9, 0.2, 0.9}, {0.2, 0.9, 0.9}, {0.95, 0.95, 0.95}, {0.9, 0.5, 0.1}}
+local mats = {}
+for k, c in ipairs(PALETTE) do
+  mats[k] = lancer.material{color = c, ka = 0.1, kd = 0.8, absorb = "diffuse"}
+end
+
+local scene = lancer.scene{
+  camera = lancer.camera{from = {0, 12, 62}, at = {0, 0, 0}, fov = 60},
+  background = {0.5, 0.7, 1.0}, ambient = 1, max_depth = 3}
+scene:add(lancer.plane{point = {0, 0, 0}, normal = {0, 1, 0},
+  material = lancer.material{color = 0.6, ka = 0.1, kd = 0.8, absorb = "diffuse"}})
+scene:add(lancer.point_light{position = {40, 60, 30}, falloff = "none"})
+local sphere, add = lancer.sphere, scene.add
+for k = 0, N - 1 do
+  local x = -50 + 100 * u()
+  local z = -50 + 100 * u()
+  local r = 0.05 + 0.25 * u()
+  add(scene, sphere{center = {x, r, z}, radius = r, material = mats[k % 8 + 1]})
+end
+
+local img, stats = scene:render{width = 1280, height = 720,
+                                samples = tonumber(arg and arg[3]) or 1}
+if out then img:save(out, {encoding = "linear"}) end
+io.stderr:write(("b2 N=%d compile %.3f s trace %.3f s nodes %d\n"):format(
+  N, stats.compile_seconds, stats.trace_seconds, stats.bvh_nodes or -1))

@@ -1,0 +1,374 @@
+/* bvh.c: building the bounding volume hierarchy (binned SAH). */
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include "bvh.h"
+#include "error.h"
+
+#define BINS 16
+#define MIN_LEAF 4        /* fewer is always a leaf: nodes cost memory too */
+#define MAX_LEAF 8        /* a leaf never holds more, unless the prims cannot be split */
+#define MAX_DEPTH 64
+#define TRAVERSAL_COST 0.5f  /* one node visit, relative to one primitive test */
+
+float bvh_down(double x)
+{
+    float f = (float)x;
+    return (double)f > x ? nextafterf(f, -INFINITY) : f;
+}
+
+float bvh_up(double x)
+{
+    float f = (float)x;
+    return (double)f < x ? nextafterf(f, INFINITY) : f;
+}
+
+typedef struct { float lo[3], hi[3]; } box3;
+
+static void box_empty(box3 *b)
+{
+    for (int k = 0; k < 3; k++) {
+        b->lo[k] = INFINITY;
+        b->hi[k] = -INFINITY;
+    }
+}
+
+static void box_grow(box3 *b, const float lo[3], const float hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        if (lo[k] < b->lo[k]) b->lo[k] = lo[k];
+        if (hi[k] > b->hi[k]) b->hi[k] = hi[k];
+    }
+}
+
+static float box_area(const box3 *b)
+{
+    float dx = b->hi[0] - b->lo[0], dy = b->hi[1] - b->lo[1], dz = b->hi[2] - b->lo[2];
+    if (!(dx >= 0))     /* empty */
+        return 0;
+    return 2 * (dx * dy + dy * dz + dz * dx);
+}
+
+/* Items are moved as a whole during the build, so every pass reads memory
+** in order. */
+typedef bvh_item item;
+
+typedef struct {
+    bvh   *b;
+    size_t cap;
+    item  *items;
+    int    failed;
+} builder;
+
+static uint32_t new_node(builder *bd)
+{
+    bvh *b = bd->b;
+    if (b->nnodes == bd->cap) {
+        size_t nc = bd->cap + bd->cap / 2 + 64;
+        bvh_node *p = realloc(b->nodes, nc * sizeof *p);
+        if (!p) {
+            bd->failed = 1;
+            return 0;
+        }
+        b->nodes = p;
+        bd->cap = nc;
+    }
+    return (uint32_t)b->nnodes++;
+}
+
+static float centroid(const item *it, int k) { return 0.5f * it->lo[k] + 0.5f * it->hi[k]; }
+
+static int bin_of(const item *it, int axis, float lo, float scale)
+{
+    int bi = (int)((centroid(it, axis) - lo) * scale);
+    return bi >= BINS ? BINS - 1 : bi < 0 ? 0 : bi;
+}
+
+static void make_leaf(builder *bd, uint32_t ni, size_t begin, size_t n, const box3 *bounds)
+{
+    bvh_node *node = &bd->b->nodes[ni];
+    memcpy(node->lo, bounds->lo, sizeof node->lo);
+    memcpy(node->hi, bounds->hi, sizeof node->hi);
+    node->start = (uint32_t)begin;
+    node->count = (uint16_t)n;
+    node->axis = 0;
+}
+
+/* Bounds and centroid bounds of items[begin, end). */
+static void measure(const builder *bd, size_t begin, size_t end, box3 *bounds, box3 *cb)
+{
+    box_empty(bounds);
+    box_empty(cb);
+    for (size_t i = begin; i < end; i++) {
+        const item *it = &bd->items[i];
+        float c[3] = {centroid(it, 0), centroid(it, 1), centroid(it, 2)};
+        box_grow(bounds, it->lo, it->hi);
+        box_grow(cb, c, c);
+    }
+}
+
+/* Builds the subtree for items[begin, end) into node ni. Binned SAH: of the
+** BINS-1 planes across the widest centroid extent, the one minimising
+** area-weighted counts, unless a leaf is cheaper. Two passes over the items
+** per level: binning, then partitioning (which measures both children). */
+static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bounds, box3 cb,
+                  int depth)
+{
+    item *items = bd->items;
+    size_t n = end - begin;
+    int axis = 0;
+    float ext[3];
+    for (int k = 0; k < 3; k++)
+        ext[k] = cb.hi[k] - cb.lo[k];
+    if (ext[1] > ext[axis]) axis = 1;
+    if (ext[2] > ext[axis]) axis = 2;
+
+    int leaf = n <= MIN_LEAF || depth >= MAX_DEPTH;
+    size_t mid = begin;
+    box3 lb, rb, lcb, rcb;
+    int measured = 0;
+    if (!leaf && ext[axis] > 0) {
+        float scale = BINS / ext[axis];
+        size_t count[BINS] = {0};
+        box3 bin[BINS];
+        for (int i = 0; i < BINS; i++)
+            box_empty(&bin[i]);
+        for (size_t i = begin; i < end; i++) {
+            int bi = bin_of(&items[i], axis, cb.lo[axis], scale);
+            count[bi]++;
+            box_grow(&bin[bi], items[i].lo, items[i].hi);
+        }
+        float rarea[BINS];
+        size_t rcount[BINS], cnt = 0;
+        box3 acc;
+        box_empty(&acc);
+        for (int i = BINS - 1; i > 0; i--) {
+            box_grow(&acc, bin[i].lo, bin[i].hi);
+            cnt += count[i];
+            rarea[i] = box_area(&acc);
+            rcount[i] = cnt;
+        }
+        box_empty(&acc);
+        cnt = 0;
+        float best = INFINITY;
+        int split = -1;
+        for (int i = 0; i < BINS - 1; i++) {
+            box_grow(&acc, bin[i].lo, bin[i].hi);
+            cnt += count[i];
+            if (cnt == 0 || rcount[i + 1] == 0)
+                continue;
+            float c = box_area(&acc) * cnt + rarea[i + 1] * rcount[i + 1];
+            if (c < best) {
+                best = c;
+                split = i;
+            }
+        }
+        float area = box_area(&bounds);
+        float cost = area > 0 ? TRAVERSAL_COST + best / area : INFINITY;
+        if (split >= 0 && !(cost >= (float)n && n <= MAX_LEAF)) {
+            box_empty(&lb);
+            box_empty(&rb);
+            box_empty(&lcb);
+            box_empty(&rcb);
+            size_t i = begin, j = end;
+            while (i < j) {
+                float c[3] = {centroid(&items[i], 0), centroid(&items[i], 1),
+                              centroid(&items[i], 2)};
+                if (bin_of(&items[i], axis, cb.lo[axis], scale) <= split) {
+                    box_grow(&lb, items[i].lo, items[i].hi);
+                    box_grow(&lcb, c, c);
+                    i++;
+                } else {
+                    box_grow(&rb, items[i].lo, items[i].hi);
+                    box_grow(&rcb, c, c);
+                    item t = items[i];
+                    items[i] = items[--j];
+                    items[j] = t;
+                }
+            }
+            mid = i;
+            measured = 1;
+        } else if (n <= MAX_LEAF) {
+            leaf = 1;
+        }
+    } else if (!leaf && n <= MAX_LEAF) {
+        leaf = 1;            /* all centroids coincide: nothing to gain */
+    }
+    if (leaf && n <= 0xffff) {
+        make_leaf(bd, ni, begin, n, &bounds);
+        return;
+    }
+    if (mid == begin || mid == end) {   /* no useful plane: halve by index */
+        mid = begin + n / 2;
+        measured = 0;
+    }
+    if (!measured) {
+        measure(bd, begin, mid, &lb, &lcb);
+        measure(bd, mid, end, &rb, &rcb);
+    }
+    uint32_t left = new_node(bd);
+    if (bd->failed)
+        return;
+    build(bd, left, begin, mid, lb, lcb, depth + 1);
+    uint32_t right = new_node(bd);
+    if (bd->failed)
+        return;
+    build(bd, right, mid, end, rb, rcb, depth + 1);
+    bvh_node *node = &bd->b->nodes[ni];   /* the array may have moved */
+    memcpy(node->lo, bounds.lo, sizeof node->lo);
+    memcpy(node->hi, bounds.hi, sizeof node->hi);
+    node->start = right;
+    node->count = 0;
+    node->axis = (uint16_t)axis;
+}
+
+/* The top split's second half is built on its own thread into its own node
+** array, then appended: both cores work on large builds. */
+typedef struct {
+    builder bd;
+    size_t  begin, end;
+    box3    bounds, cb;
+} job;
+
+static void *build_job(void *arg)
+{
+    job *j = arg;
+    j->bd.b->nnodes = 1;
+    build(&j->bd, 0, j->begin, j->end, j->bounds, j->cb, 1);
+    return NULL;
+}
+
+#define PARALLEL_MIN 100000   /* below this a thread costs more than it saves */
+
+lc_status bvh_build(bvh *b, bvh_item *items, size_t n, lc_error *err)
+{
+    memset(b, 0, sizeof *b);
+    if (n == 0) {
+        free(items);
+        return LC_OK;
+    }
+    if (n > 0xffffffffu) {
+        free(items);
+        return lc_fail(err, LC_EARG, NULL, "too many primitives: %zu", n);
+    }
+    builder bd = {b, n / 3 + 64, items, 0};
+    b->nodes = malloc(bd.cap * sizeof *b->nodes);
+    if (!b->nodes) {
+        free(items);
+        return lc_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
+                       "primitives", n);
+    }
+    box3 all, cb;
+    measure(&bd, 0, n, &all, &cb);
+    b->nnodes = 1;
+    if (n < PARALLEL_MIN) {
+        build(&bd, 0, 0, n, all, cb, 0);
+    } else {
+        /* Split the root as build() would, by the median of the widest
+        ** centroid axis, then hand each half to a thread. */
+        int axis = 0;
+        for (int k = 1; k < 3; k++)
+            if (cb.hi[k] - cb.lo[k] > cb.hi[axis] - cb.lo[axis])
+                axis = k;
+        size_t mid = n / 2;
+        /* quickselect on the centroid so the halves split space, not order */
+        size_t lo = 0, hi = n;
+        while (hi - lo > 1) {
+            float pivot = centroid(&items[lo + (hi - lo) / 2], axis);
+            size_t i = lo, j = hi;
+            while (i < j) {
+                if (centroid(&items[i], axis) < pivot) {
+                    i++;
+                } else {
+                    item t = items[i];
+                    items[i] = items[--j];
+                    items[j] = t;
+                }
+            }
+            size_t eq = i;          /* [lo, i) < pivot; gather == pivot next */
+            for (size_t k = i; k < hi; k++)
+                if (centroid(&items[k], axis) == pivot) {
+                    item t = items[k];
+                    items[k] = items[eq];
+                    items[eq++] = t;
+                }
+            if (mid < i) hi = i;
+            else if (mid >= eq) lo = eq;
+            else break;
+        }
+        box3 lb, lcb;
+        job right;
+        memset(&right, 0, sizeof right);
+        bvh rb;
+        memset(&rb, 0, sizeof rb);
+        right.bd.b = &rb;
+        right.bd.cap = (n - mid) / 3 + 64;
+        right.bd.items = items;
+        right.begin = mid;
+        right.end = n;
+        measure(&bd, 0, mid, &lb, &lcb);
+        measure(&bd, mid, n, &right.bounds, &right.cb);
+        rb.nodes = malloc(right.bd.cap * sizeof *rb.nodes);
+        pthread_t th;
+        int threaded = rb.nodes && pthread_create(&th, NULL, build_job, &right) == 0;
+        if (rb.nodes && !threaded)
+            build_job(&right);
+        uint32_t left = new_node(&bd);
+        if (!bd.failed)
+            build(&bd, left, 0, mid, lb, lcb, 1);
+        if (threaded)
+            pthread_join(th, NULL);
+        if (!rb.nodes || right.bd.failed) {
+            bd.failed = 1;
+        } else {
+            /* Append the right half; its interior nodes point within it. */
+            size_t off = b->nnodes;
+            bvh_node *p = realloc(b->nodes, (off + rb.nnodes) * sizeof *p);
+            if (!p) {
+                bd.failed = 1;
+            } else {
+                b->nodes = p;
+                for (size_t i = 0; i < rb.nnodes; i++) {
+                    p[off + i] = rb.nodes[i];
+                    if (p[off + i].count == 0)
+                        p[off + i].start += (uint32_t)off;
+                }
+                b->nnodes += rb.nnodes;
+                bvh_node *root = &b->nodes[0];
+                memcpy(root->lo, all.lo, sizeof root->lo);
+                memcpy(root->hi, all.hi, sizeof root->hi);
+                root->start = (uint32_t)off;
+                root->count = 0;
+                root->axis = (uint16_t)axis;
+            }
+        }
+        free(rb.nodes);
+    }
+    if (bd.failed) {
+        free(items);
+        bvh_free(b);
+        return lc_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
+                       "primitives", n);
+    }
+    /* The items' order is the leaves' order; keep only the ids, in place. */
+    uint32_t *refs = (uint32_t *)(void *)items;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t id = items[i].id;
+        refs[i] = id;
+    }
+    uint32_t *fit = realloc(refs, n * sizeof *fit);
+    b->refs = fit ? fit : refs;
+    b->nrefs = n;
+    bvh_node *nfit = realloc(b->nodes, b->nnodes * sizeof *nfit);
+    if (nfit)
+        b->nodes = nfit;
+    return LC_OK;
+}
+
+void bvh_free(bvh *b)
+{
+    free(b->nodes);
+    free(b->refs);
+    memset(b, 0, sizeof *b);
+}

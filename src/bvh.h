@@ -1,0 +1,41 @@
+/* bvh.h: a bounding volume hierarchy over primitive bounds. */
+#ifndef LC_BVH_H
+#define LC_BVH_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "lancer.h"
+
+/* 32 bytes. Bounds are floats rounded outward from the double geometry, so a
+** node always contains what it claims to. */
+typedef struct {
+    float    lo[3], hi[3];
+    uint32_t start;   /* leaf: first entry of refs; interior: index of the second child */
+    uint16_t count;   /* leaf: number of refs (> 0); interior: 0 */
+    uint16_t axis;    /* interior: split axis, to visit the nearer child first */
+} bvh_node;
+
+typedef struct {
+    bvh_node *nodes;   /* nodes[0] is the root; an interior node's first child follows it */
+    size_t    nnodes;
+    uint32_t *refs;    /* leaf entries: indices into the caller's primitive list */
+    size_t    nrefs;
+} bvh;
+
+/* One primitive to build over: its bounds and the caller's id for it. */
+typedef struct {
+    float    lo[3], hi[3];
+    uint32_t id;
+} bvh_item;
+
+/* Builds over items[0, n) (binned surface area heuristic, two threads at the
+** top), reordering them; refs then hold the ids in leaf order. The items
+** array is taken over and freed. n may be 0. */
+lc_status bvh_build(bvh *b, bvh_item *items, size_t n, lc_error *err);
+void      bvh_free(bvh *b);
+
+/* Rounds a double outward to a float bound. */
+float bvh_down(double x);
+float bvh_up(double x);
+
+#endif

@@ -1,0 +1,103 @@
+/* mesh.c: triangle meshes: vertices, optional vertex normals, faces. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "error.h"
+#include "scene.h"
+
+#define MAX_ELEMENTS ((size_t)1 << 29)   /* indices and ids stay within 32 bits */
+
+lc_mesh *lc_mesh_new(lc_error *err)
+{
+    lc_mesh *m = calloc(1, sizeof *m);
+    if (!m) {
+        lc_fail(err, LC_ENOMEM, NULL, "out of memory creating a mesh");
+        return NULL;
+    }
+    m->refs = 1;
+    lc_ok(err);
+    return m;
+}
+
+lc_mesh *mesh_retain(lc_mesh *m)
+{
+    m->refs++;
+    return m;
+}
+
+void lc_mesh_free(lc_mesh *m)
+{
+    if (!m || --m->refs > 0)
+        return;
+    free(m->v);
+    free(m->n);
+    free(m->f);
+    free(m);
+}
+
+/* Makes room for `more` items of `width` elements of `size` bytes. */
+static int reserve(void **arr, size_t *cap, size_t n, size_t more, size_t width, size_t size)
+{
+    if (more > MAX_ELEMENTS || n + more > MAX_ELEMENTS)
+        return 0;
+    if (n + more <= *cap)
+        return 1;
+    size_t nc = *cap ? *cap : 64;
+    while (nc < n + more)
+        nc *= 2;
+    void *p = realloc(*arr, nc * width * size);
+    if (!p)
+        return 0;
+    *arr = p;
+    *cap = nc;
+    return 1;
+}
+
+static lc_status add_points(lc_mesh *m, double **arr, size_t *n, size_t *cap,
+                            const double *xyz, size_t count, const char *what, lc_error *err)
+{
+    for (size_t i = 0; i < 3 * count; i++)
+        if (!isfinite(xyz[i]))
+            return lc_fail(err, LC_EARG, what, "%s %zu: component %zu must be finite, got %g",
+                           what, *n + i / 3 + 1, i % 3 + 1, xyz[i]);
+    if (!reserve((void **)arr, cap, *n, count, 3, sizeof **arr))
+        return lc_fail(err, LC_ENOMEM, NULL, "out of memory: mesh of %zu %s", *n + count,
+                       what);
+    memcpy(*arr + 3 * *n, xyz, 3 * count * sizeof **arr);
+    *n += count;
+    (void)m;
+    lc_ok(err);
+    return LC_OK;
+}
+
+lc_status lc_mesh_add_vertices(lc_mesh *m, const double *xyz, size_t n, lc_error *err)
+{
+    return add_points(m, &m->v, &m->nv, &m->capv, xyz, n, "vertices", err);
+}
+
+lc_status lc_mesh_add_normals(lc_mesh *m, const double *xyz, size_t n, lc_error *err)
+{
+    for (size_t i = 0; i < n; i++)
+        if (xyz[3 * i] == 0 && xyz[3 * i + 1] == 0 && xyz[3 * i + 2] == 0)
+            return lc_fail(err, LC_EARG, "normals", "normal %zu is zero-length",
+                           m->nn + i + 1);
+    return add_points(m, &m->n, &m->nn, &m->capn, xyz, n, "normals", err);
+}
+
+lc_status lc_mesh_add_faces(lc_mesh *m, const uint32_t *abc, size_t n, lc_error *err)
+{
+    for (size_t i = 0; i < 3 * n; i++)
+        if (abc[i] >= m->nv)
+            return lc_fail(err, LC_EARG, "faces", "face %zu: vertex index %lu is past the "
+                           "%zu vertices", m->nf + i / 3 + 1, (unsigned long)abc[i] + 1,
+                           m->nv);
+    if (!reserve((void **)&m->f, &m->capf, m->nf, n, 3, sizeof *m->f))
+        return lc_fail(err, LC_ENOMEM, NULL, "out of memory: mesh of %zu faces", m->nf + n);
+    memcpy(m->f + 3 * m->nf, abc, 3 * n * sizeof *abc);
+    m->nf += n;
+    lc_ok(err);
+    return LC_OK;
+}
+
+size_t lc_mesh_vertex_count(const lc_mesh *m) { return m->nv; }
+size_t lc_mesh_face_count(const lc_mesh *m) { return m->nf; }
