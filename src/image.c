@@ -70,3 +70,35 @@ uint8_t lc_encode_channel(float linear, lc_encoding enc)
         v = v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
     return (uint8_t)(v * 255 + 0.5);
 }
+
+lc_status lc_image_compare(const lc_image *a, const lc_image *b, double tol,
+                           lc_image_diff *d, lc_error *err)
+{
+    if (a->width != b->width || a->height != b->height)
+        return lc_fail(err, LC_EARG, "image", "sizes differ: %dx%d and %dx%d", a->width,
+                       a->height, b->width, b->height);
+    size_t n = (size_t)a->width * a->height;
+    double sum = 0, worst = 0;
+    size_t ok = 0, wi = 0;
+    for (size_t i = 0; i < n; i++) {
+        int pixel_ok = 1;
+        for (int k = 0; k < 3; k++) {
+            double e = fabs((double)a->px[3 * i + k] - b->px[3 * i + k]);
+            if (!(e <= worst) && !(e != e && worst != worst)) {   /* NaN is worst */
+                worst = e;
+                wi = i;
+            }
+            sum += e;
+            if (!(e <= tol))
+                pixel_ok = 0;
+        }
+        ok += pixel_ok;
+    }
+    d->mean_abs = sum / (3.0 * n);
+    d->max_abs = worst;
+    d->within = (double)ok / n;
+    d->worst_x = (int)(wi % a->width);
+    d->worst_y = (int)(wi / a->width);
+    lc_ok(err);
+    return LC_OK;
+}

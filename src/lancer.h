@@ -188,5 +188,18 @@ void      lc_image_set(lc_image *img, int x, int y, lc_color c);
 uint8_t   lc_encode_channel(float linear, lc_encoding enc); /* clamp, encode, round */
 lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding enc,
                             lc_error *err);             /* temp file, then rename */
+/* Reads any PNG; pixels are decoded from sRGB, or taken as stored (v / max)
+** with LC_ENCODE_LINEAR. Alpha is dropped, grey becomes RGB. */
+lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err);
+
+typedef struct {
+    double mean_abs;      /* mean |a - b| over every channel */
+    double max_abs;       /* largest |a - b| */
+    double within;        /* share of pixels whose channels all differ <= tol */
+    int    worst_x, worst_y;
+} lc_image_diff;
+
+lc_status lc_image_compare(const lc_image *a, const lc_image *b, double tol,
+                           lc_image_diff *d, lc_error *err);   /* same size */
 
 #endif

@@ -1089,6 +1089,49 @@ static int w_image_save(lua_State *L)
     return 1;
 }
 
+static int w_load_png(lua_State *L)
+{
+    static const char *const known[] = {"encoding", NULL};
+    luaL_checktype(L, 1, LUA_TSTRING);
+    lc_encoding enc = LC_ENCODE_SRGB;
+    if (!lua_isnoneornil(L, 2)) {
+        lf_open(L, 2, known);
+        enc = (lc_encoding)lf_option(L, 2, "encoding", encoding_opts, 0);
+    }
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    ui->img = NULL;
+    luaL_setmetatable(L, IMAGE);
+    lc_error err;
+    ui->img = lc_image_load_png(lua_tostring(L, 1), enc, &err);
+    if (!ui->img)
+        return luaL_argerror(L, 1, err.msg);
+    return 1;
+}
+
+static int w_image_diff(lua_State *L)
+{
+    lc_image *a = check_image(L, 1), *b = check_image(L, 2);
+    double tol = luaL_optnumber(L, 3, 1.0 / 255);
+    if (!(tol >= 0))
+        return luaL_argerror(L, 3, "tolerance must be >= 0");
+    lc_image_diff d;
+    lc_error err;
+    if (lc_image_compare(a, b, tol, &d, &err))
+        return luaL_argerror(L, 2, err.msg);
+    lua_createtable(L, 0, 5);
+    lua_pushnumber(L, d.mean_abs);
+    lua_setfield(L, -2, "mean");
+    lua_pushnumber(L, d.max_abs);
+    lua_setfield(L, -2, "max");
+    lua_pushnumber(L, d.within);
+    lua_setfield(L, -2, "within");
+    lua_pushinteger(L, d.worst_x + 1);
+    lua_setfield(L, -2, "worst_x");
+    lua_pushinteger(L, d.worst_y + 1);
+    lua_setfield(L, -2, "worst_y");
+    return 1;
+}
+
 static int w_image_pixel(lua_State *L)
 {
     lc_image *img = check_image(L, 1);
@@ -1165,7 +1208,8 @@ int luaopen_lancer_core(lua_State *L)
         {"__gc", w_image_free}, {"__close", w_image_free}, {"__tostring", w_image_tostring},
         {"__index", w_image_index}, {NULL, NULL}};
     static const luaL_Reg image_methods[] = {
-        {"save", w_image_save}, {"pixel", w_image_pixel}, {NULL, NULL}};
+        {"save", w_image_save}, {"pixel", w_image_pixel}, {"diff", w_image_diff},
+        {NULL, NULL}};
     static const luaL_Reg mesh_meta[] = {
         {"__gc", w_mesh_free}, {"__close", w_mesh_free}, {"__tostring", w_mesh_tostring},
         {"__index", w_mesh_index}, {NULL, NULL}};
@@ -1174,6 +1218,7 @@ int luaopen_lancer_core(lua_State *L)
         {"add_normals", w_mesh_add_normals}, {NULL, NULL}};
     static const luaL_Reg funcs[] = {
         {"mesh", w_mesh}, {"triangle", w_triangle}, {"load_obj", w_load_obj},
+        {"load_png", w_load_png},
         {"material", w_material}, {"sphere", w_sphere}, {"quad", w_quad}, {"box", w_box},
         {"plane", w_plane}, {"point_light", w_point_light}, {"camera", w_camera},
         {"scene", w_scene}, {NULL, NULL}};

@@ -1,5 +1,6 @@
 /* png.c: writing images as 8-bit PNG through libpng, atomically. */
 #include <errno.h>
+#include <math.h>
 #include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -117,4 +118,78 @@ lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding e
         lc_ok(err);
     free(tmp);
     return st;
+}
+
+/* Decodes one sample of depth 8 or 16 as stored, or from sRGB. */
+static float decode(unsigned v, unsigned max, lc_encoding enc)
+{
+    double x = (double)v / max;
+    if (enc == LC_ENCODE_SRGB)
+        x = x <= 0.04045 ? x / 12.92 : pow((x + 0.055) / 1.055, 2.4);
+    return (float)x;
+}
+
+lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp) {
+        lc_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
+        return NULL;
+    }
+    png_failure fail = {""};
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &fail, on_png_error,
+                                             on_png_warning);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    lc_image *volatile img = NULL;
+    unsigned char *volatile row = NULL;
+    if (!png || !info || setjmp(png_jmpbuf(png))) {
+        png_destroy_read_struct(png ? &png : NULL, info ? &info : NULL, NULL);
+        fclose(fp);
+        free(row);
+        lc_image_free(img);
+        lc_fail(err, LC_EIO, "path", "cannot read '%s': %s", path,
+                fail.msg[0] ? fail.msg : "out of memory");
+        return NULL;
+    }
+    png_init_io(png, fp);
+    png_read_info(png, info);
+    png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+    int depth = png_get_bit_depth(png, info), type = png_get_color_type(png, info);
+    if (w > LC_MAX_SIDE || h > LC_MAX_SIDE)
+        png_error(png, "image too large");
+    /* Everything to 8- or 16-bit RGB, values as stored: no gamma handling. */
+    if (type == PNG_COLOR_TYPE_PALETTE)
+        png_set_palette_to_rgb(png);
+    if (type == PNG_COLOR_TYPE_GRAY || type == PNG_COLOR_TYPE_GRAY_ALPHA)
+        png_set_gray_to_rgb(png);
+    if (depth < 8)
+        png_set_expand(png);
+    if (type & PNG_COLOR_MASK_ALPHA)
+        png_set_strip_alpha(png);
+    if (png_get_valid(png, info, PNG_INFO_tRNS))
+        png_set_tRNS_to_alpha(png), png_set_strip_alpha(png);
+    if (depth == 16)
+        png_set_swap(png);             /* PNG is big-endian; read native order */
+    png_read_update_info(png, info);
+    int bytes = png_get_bit_depth(png, info) == 16 ? 2 : 1;
+    img = lc_image_new((int)w, (int)h, err);
+    if (!img)
+        png_error(png, "out of memory");
+    row = malloc(png_get_rowbytes(png, info));
+    if (!row)
+        png_error(png, "out of memory");
+    for (png_uint_32 y = 0; y < h; y++) {
+        png_read_row(png, row, NULL);
+        float *dst = img->px + (size_t)y * w * 3;
+        for (png_uint_32 i = 0; i < 3 * w; i++) {
+            unsigned v = bytes == 2 ? ((const uint16_t *)(const void *)row)[i] : row[i];
+            dst[i] = decode(v, bytes == 2 ? 65535 : 255, enc);
+        }
+    }
+    png_read_end(png, NULL);
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    free(row);
+    lc_ok(err);
+    return img;
 }
