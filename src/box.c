@@ -68,6 +68,8 @@ int box_hit(const box_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit
         return 0;
     }
     lc_vec3 p = v3_madd(r->o, r->d, t);
+    if (!isfinite(p.x + p.y + p.z))   /* a NaN ray slips past the NaN-blind slabs */
+        return 0;
     lc_vec3 perr;
     if (g->aligned) {
         p = plane_snap(p, g->un[axis], 0, axis, at_hi ? g->hi[axis] : g->lo[axis], &perr);

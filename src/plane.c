@@ -13,12 +13,14 @@ void plane_prepare(const lc_shape *s, plane_geom *g)
 {
     g->n = v3_norm(s->u);
     g->p = s->p;
-    g->k = v3_dot(g->n, g->p);
     g->axis = axis_of(g->n);
     if (g->axis >= 0)      /* exact: the normal is +-1 on that axis */
         g->n = v3(g->axis == 0 ? copysign(1, s->u.x) : 0,
                   g->axis == 1 ? copysign(1, s->u.y) : 0,
                   g->axis == 2 ? copysign(1, s->u.z) : 0);
+    /* After the normal is final: (0, 49, 0) normalises to 1 - 2^-53, and a
+    ** k from that made rays leaving the plane y = 1 hit it again. */
+    g->k = v3_dot(g->n, g->p);
 }
 
 /* p = o + t d carries an error proportional to t, which near the horizon is
@@ -50,7 +52,9 @@ int plane_hit(const plane_geom *g, const lc_ray *r, double tmin, double tmax, lc
     double denom = v3_dot(g->n, r->d);
     if (denom == 0)        /* exactly parallel; no epsilon band near grazing */
         return 0;
-    double t = (g->k - v3_dot(g->n, r->o)) / denom;
+    /* n.(p - o), not k - n.o: the difference is taken before the dot
+    ** product, so t stays exact to a few ulps of |p - o|, not of |o|. */
+    double t = v3_dot(g->n, v3_sub(g->p, r->o)) / denom;
     if (!(t > tmin && t < tmax))   /* NaN and inf fail here */
         return 0;
     lc_vec3 perr;

@@ -23,7 +23,7 @@ int quad_hit(const quad_geom *g, const lc_ray *r, double tmin, double tmax, lc_h
     double denom = v3_dot(g->n, r->d);
     if (denom == 0)
         return 0;
-    double t = (g->k - v3_dot(g->n, r->o)) / denom;
+    double t = v3_dot(g->n, v3_sub(g->q, r->o)) / denom;   /* see plane.c */
     if (!(t > tmin && t < tmax))
         return 0;
     lc_vec3 perr;
