@@ -100,8 +100,13 @@ static void shading_normal(const lc_scene *s, lc_hit *h)
         n = v3_madd(n, v3(nk[0], nk[1], nk[2]), h->bary[k]);
     }
     double l = v3_len(n);
-    if (l > 0 && isfinite(l))
-        h->ns = v3_mul(n, 1.0 / l);
+    if (!(l > 0 && isfinite(l)))
+        return;
+    h->ns = v3_mul(n, 1.0 / l);
+    /* The normals say which side is out, whatever the winding: the geometric
+    ** normal follows them (pbrt does the same), so facing tests agree. */
+    if (v3_dot(h->ns, h->n) < 0)
+        h->n = v3_neg(h->n);
 }
 
 /* Ties in t go to the lower id, whatever order the BVH visits them in. */

@@ -7,6 +7,7 @@
 #include "lancer.h"
 #include "lua_fields.h"
 #include "lua_lancer.h"
+#include "lua_progress.h"
 
 #define MATERIAL "lancer.Material"
 #define SHAPE    "lancer.Shape"
@@ -300,19 +301,20 @@ static void read_points(lua_State *L, int arg, int list, lc_mesh *m, int normals
     if (n > 0)
         lua_pop(L, 1);
     if (flat && n % 3 != 0)
-        lf_error(L, arg, field, "flat list length must be a multiple of 3, got %I", n);
+        lf_error(L, arg, field, "flat list length must be a multiple of 3, got %lld",
+                 (long long)n);
     lua_Integer count = flat ? n / 3 : n;
     for (lua_Integer i = 1; i <= count; i++) {
         if (flat) {
             for (int k = 0; k < 3; k++) {
                 if (lua_geti(L, list, 3 * (i - 1) + k + 1) != LUA_TNUMBER)
-                    lf_error(L, arg, field, "entry %I: number expected, got %s",
-                             3 * (i - 1) + k + 1, luaL_typename(L, -1));
+                    lf_error(L, arg, field, "entry %lld: number expected, got %s",
+                             (long long)(3 * (i - 1) + k + 1), luaL_typename(L, -1));
                 double x = lua_tonumber(L, -1);
                 lua_pop(L, 1);
                 if (!isfinite(x))
-                    lf_error(L, arg, field, "entry %I: must be finite, got %f",
-                             3 * (i - 1) + k + 1, x);
+                    lf_error(L, arg, field, "entry %lld: must be finite, got %g",
+                             (long long)(3 * (i - 1) + k + 1), x);
                 buf[3 * nb + k] = x;
             }
         } else {
@@ -320,7 +322,7 @@ static void read_points(lua_State *L, int arg, int list, lc_mesh *m, int normals
             lc_vec3 v;
             lua_geti(L, list, i);
             if (!lf_to_vec3(L, -1, &v, why, sizeof why))
-                lf_error(L, arg, field, "point %I: %s", i, why);
+                lf_error(L, arg, field, "point %lld: %s", (long long)i, why);
             lua_pop(L, 1);
             buf[3 * nb] = v.x;
             buf[3 * nb + 1] = v.y;
@@ -342,11 +344,11 @@ static uint32_t face_index(lua_State *L, int arg, const char *field, lua_Integer
     int isint;
     lua_Integer k = lua_tointegerx(L, -1, &isint);
     if (!isint)
-        lf_error(L, arg, field, "face %I: integer vertex index expected, got %s", face,
-                 luaL_tolstring(L, -1, NULL));
+        lf_error(L, arg, field, "face %lld: integer vertex index expected, got %s",
+                 (long long)face, luaL_tolstring(L, -1, NULL));
     if (k < 1 || (size_t)k > nv)
-        lf_error(L, arg, field, "face %I: vertex index %I out of range [1, %d]", face, k,
-                 (int)nv);
+        lf_error(L, arg, field, "face %lld: vertex index %lld out of range [1, %zu]",
+                 (long long)face, (long long)k, nv);
     lua_pop(L, 1);
     return (uint32_t)(k - 1);
 }
@@ -367,7 +369,8 @@ static void read_faces(lua_State *L, int arg, int list, lc_mesh *m, const char *
     if (n > 0)
         lua_pop(L, 1);
     if (flat && n % 3 != 0)
-        lf_error(L, arg, field, "flat list length must be a multiple of 3, got %I", n);
+        lf_error(L, arg, field, "flat list length must be a multiple of 3, got %lld",
+                 (long long)n);
     lua_Integer count = flat ? n / 3 : n;
     for (lua_Integer i = 1; i <= count; i++) {
         if (flat) {
@@ -378,13 +381,13 @@ static void read_faces(lua_State *L, int arg, int list, lc_mesh *m, const char *
             nb++;
         } else {
             if (lua_geti(L, list, i) != LUA_TTABLE)
-                lf_error(L, arg, field, "face %I: table of vertex indices expected, got %s",
-                         i, luaL_typename(L, -1));
+                lf_error(L, arg, field, "face %lld: table of vertex indices expected, got %s",
+                         (long long)i, luaL_typename(L, -1));
             int f = lua_gettop(L);
             lua_Integer corners = luaL_len(L, f);
             if (corners < 3)
-                lf_error(L, arg, field, "face %I: at least 3 vertices expected, got %I", i,
-                         corners);
+                lf_error(L, arg, field, "face %lld: at least 3 vertices expected, got %lld",
+                         (long long)i, (long long)corners);
             lua_geti(L, f, 1);
             uint32_t first = face_index(L, arg, field, i, nv);
             lua_geti(L, f, 2);
@@ -492,7 +495,7 @@ static int w_load_obj(lua_State *L)
     lc_error err;
     u->m = lc_mesh_load_obj(path, &err);
     if (!u->m)
-        return luaL_error(L, "%s", err.msg);
+        return luaL_argerror(L, 1, err.msg);     /* names 'load_obj', the file, the line */
     return 1;
 }
 
@@ -937,7 +940,7 @@ static void push_stats(lua_State *L, const lc_stats *st)
 static int w_scene_render(lua_State *L)
 {
     static const char *const known[] = {"width", "height", "samples", "seed", "threads",
-                                        "cosine", NULL};
+                                        "cosine", "progress", NULL};
     ud_scene *u = check_scene(L, 1);
     if (lua_isnoneornil(L, 2)) {
         lua_settop(L, 1);
@@ -965,6 +968,7 @@ static int w_scene_render(lua_State *L)
     lua_pop(L, 1);
     o.threads = lf_integer(L, 2, "threads", 0, 0);
     o.cosine = lf_boolean(L, 2, "cosine", 1);
+    int show = lf_present(L, 2, "progress") ? lf_boolean(L, 2, "progress", 0) : -1;
     apply_overrides(L, &o);
 
     ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
@@ -972,7 +976,12 @@ static int w_scene_render(lua_State *L)
     luaL_setmetatable(L, IMAGE);
     lc_stats st;
     lc_error err;
+    lua_progress bar;
+    lua_progress_begin(&bar, show);
+    o.progress = lua_progress_update;
+    o.progress_ud = &bar;
     ui->img = lc_scene_render(u->s, &o, &st, &err);
+    lua_progress_end(&bar);
     if (!ui->img) {
         if (strcmp(err.field, "camera") == 0)
             return luaL_error(L, "render: the scene has no camera (set scene.camera = "

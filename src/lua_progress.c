@@ -1,0 +1,59 @@
+/* lua_progress.c: a progress bar on stderr for renders longer than a second. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include "lua_progress.h"
+
+#define DELAY   1.0    /* seconds before the bar appears: short renders stay quiet */
+#define REDRAW  0.1    /* at most ten redraws a second */
+#define WIDTH   30
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+void lua_progress_begin(lua_progress *p, int enabled)
+{
+    memset(p, 0, sizeof *p);
+    if (enabled < 0) {
+        const char *term = getenv("TERM");
+        enabled = isatty(STDERR_FILENO) && !(term && strcmp(term, "dumb") == 0);
+    }
+    p->enabled = enabled;
+    p->start = p->last = now();
+}
+
+int lua_progress_update(void *ud, double done)
+{
+    lua_progress *p = ud;
+    double t = now(), elapsed = t - p->start;
+    if (!p->enabled || elapsed < DELAY || t - p->last < REDRAW)
+        return 0;
+    p->last = t;
+    int fill = (int)(done * WIDTH + 0.5);
+    char bar[WIDTH + 1];
+    for (int i = 0; i < WIDTH; i++)
+        bar[i] = i < fill ? '#' : '.';
+    bar[WIDTH] = '\0';
+    if (done > 0.01)
+        fprintf(stderr, "\r[%s] %3.0f%%  %.1f s, about %.1f s left\033[K", bar,
+                100 * done, elapsed, elapsed * (1 - done) / done);
+    else
+        fprintf(stderr, "\r[%s] %3.0f%%  %.1f s\033[K", bar, 100 * done, elapsed);
+    fflush(stderr);
+    p->shown = 1;
+    return 0;
+}
+
+void lua_progress_end(lua_progress *p)
+{
+    if (p->shown) {                 /* leave the line clean for what follows */
+        fputs("\r\033[K", stderr);
+        fflush(stderr);
+    }
+}

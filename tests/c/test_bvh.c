@@ -1,0 +1,224 @@
+/* test_bvh.c: the BVH finds exactly what a brute-force scan finds, and meshes are watertight. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+#include "scene.h"
+
+#define M_PI 3.14159265358979323846
+
+static uint64_t rng_state = 12345;
+
+static double rnd(void)          /* deterministic, [0, 1) */
+{
+    rng_state = rng_state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Nearest hit by testing every primitive: what the BVH must reproduce. */
+static int brute_closest(const lc_scene *s, const lc_ray *r, lc_hit *best)
+{
+    int found = 0;
+    lc_hit h;
+    tri_shear sh;
+    tri_shear_init(r->d, &sh);
+    for (size_t i = 0; i < s->nspheres; i++)
+        if (sphere_hit(&s->spheres[i].g, r, 0, HUGE_VAL, &h) && (!found || h.t < best->t)) {
+            *best = h;
+            best->shape = PRIM_ID(PRIM_SPHERE, i);
+            found = 1;
+        }
+    for (size_t i = 0; i < s->nboxes; i++)
+        if (box_hit(&s->boxes[i].g, r, 0, HUGE_VAL, &h) && (!found || h.t < best->t)) {
+            *best = h;
+            best->shape = PRIM_ID(PRIM_BOX, i);
+            found = 1;
+        }
+    for (size_t i = 0; i < s->c.ntris; i++) {
+        const lc_mesh *m = s->meshes[s->c.tris[i].mesh].mesh;
+        const uint32_t *f = m->f + 3 * (size_t)s->c.tris[i].face;
+        if (tri_hit(m->v + 3 * f[0], m->v + 3 * f[1], m->v + 3 * f[2], r, &sh, 0, HUGE_VAL,
+                    &h, h.bary) && (!found || h.t < best->t)) {
+            *best = h;
+            best->shape = PRIM_ID(PRIM_TRIANGLE, i);
+            found = 1;
+        }
+    }
+    return found;
+}
+
+static lc_vec3 random_dir(void)
+{
+    double z = 2 * rnd() - 1, a = 2 * M_PI * rnd(), r = sqrt(1 - z * z);
+    return v3(r * cos(a), r * sin(a), z);
+}
+
+static void bvh_matches_brute_force(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_scene *s = lc_scene_new(&err);
+    lc_material m = lc_material_default();
+    int mi = lc_scene_add_material(s, &m, &err);
+    for (int i = 0; i < 3000; i++) {
+        lc_shape sp = {LC_SPHERE, {20 * rnd() - 10, 20 * rnd() - 10, 20 * rnd() - 10},
+                       {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 0.05 + 0.4 * rnd()};
+        assert_true(lc_scene_add_shape(s, &sp, mi, &err) >= 0);
+    }
+    for (int i = 0; i < 300; i++) {
+        lc_vec3 c = v3(20 * rnd() - 10, 20 * rnd() - 10, 20 * rnd() - 10);
+        lc_shape b = {LC_BOX, c, {rnd() + 0.1, 0, 0}, {0, rnd() + 0.1, 0},
+                      {0, 0, rnd() + 0.1}, 0};
+        assert_true(lc_scene_add_shape(s, &b, mi, &err) >= 0);
+    }
+    lc_mesh *mesh = lc_mesh_new(&err);
+    for (int i = 0; i < 2000; i++) {
+        lc_vec3 c = v3(20 * rnd() - 10, 20 * rnd() - 10, 20 * rnd() - 10);
+        double v[9];
+        for (int k = 0; k < 3; k++) {
+            v[3 * k] = c.x + rnd() - 0.5;
+            v[3 * k + 1] = c.y + rnd() - 0.5;
+            v[3 * k + 2] = c.z + rnd() - 0.5;
+        }
+        uint32_t f[3] = {(uint32_t)(3 * i), (uint32_t)(3 * i + 1), (uint32_t)(3 * i + 2)};
+        assert_int_equal(lc_mesh_add_vertices(mesh, v, 3, &err), LC_OK);
+        assert_int_equal(lc_mesh_add_faces(mesh, f, 1, &err), LC_OK);
+    }
+    assert_true(lc_scene_add_mesh(s, mesh, mi, &err) >= 0);
+    lc_mesh_free(mesh);                      /* the scene keeps its own hold */
+    assert_int_equal(scene_compile(s, &err), LC_OK);
+    assert_true(s->c.bvh.nnodes > 1);
+
+    int hits = 0, mismatches = 0;
+    for (int i = 0; i < 20000; i++) {
+        lc_ray r = {v3(30 * rnd() - 15, 30 * rnd() - 15, 30 * rnd() - 15), random_dir()};
+        lc_hit a, b;
+        memset(&a, 0, sizeof a);
+        memset(&b, 0, sizeof b);
+        int fa = scene_closest(s, &r, HUGE_VAL, &a), fb = brute_closest(s, &r, &b);
+        if (fa != fb || (fa && (a.t != b.t || a.shape != b.shape)))
+            mismatches++;
+        hits += fa;
+        /* any-hit agrees with nearest-hit */
+        if (scene_occluded(s, &r, HUGE_VAL) != fa)
+            mismatches++;
+    }
+    printf("bvh: %d of 20000 rays hit, %d mismatches with brute force\n", hits, mismatches);
+    assert_true(hits > 2000);
+    assert_int_equal(mismatches, 0);
+    lc_scene_free(s);
+}
+
+/* A closed UV sphere; rays aimed exactly at its vertices and at points of its
+** edges from outside must all hit (Woop: shared edges are computed alike). */
+static void mesh_is_watertight(void **state)
+{
+    (void)state;
+    const int nu = 64, nv = 32;
+    lc_error err;
+    lc_mesh *mesh = lc_mesh_new(&err);
+    double p[3];
+    for (int j = 0; j <= nv; j++)
+        for (int i = 0; i < nu; i++) {
+            double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
+            p[0] = sin(th) * cos(ph);
+            p[1] = cos(th);
+            p[2] = sin(th) * sin(ph);
+            lc_mesh_add_vertices(mesh, p, 1, &err);
+        }
+    for (int j = 0; j < nv; j++)
+        for (int i = 0; i < nu; i++) {
+            uint32_t a = j * nu + i, b = j * nu + (i + 1) % nu;
+            uint32_t c = (j + 1) * nu + i, d = (j + 1) * nu + (i + 1) % nu;
+            uint32_t f[6] = {a, c, d, a, d, b};
+            lc_mesh_add_faces(mesh, f, 2, &err);
+        }
+    lc_scene *s = lc_scene_new(&err);
+    lc_material m = lc_material_default();
+    int mi = lc_scene_add_material(s, &m, &err);
+    assert_true(lc_scene_add_mesh(s, mesh, mi, &err) >= 0);
+    assert_int_equal(scene_compile(s, &err), LC_OK);
+    assert_true(s->c.degenerate > 0);        /* the poles' zero-area faces */
+
+    int rays = 0, misses = 0;
+    for (size_t f = 0; f < mesh->nf; f++) {
+        const uint32_t *ix = mesh->f + 3 * f;
+        for (int e = 0; e < 3; e++) {
+            const double *a = mesh->v + 3 * ix[e], *b = mesh->v + 3 * ix[(e + 1) % 3];
+            for (int k = 0; k <= 4; k++) {      /* the vertex (k = 0) and edge points */
+                double w = k / 4.0;
+                lc_vec3 target = v3(a[0] + w * (b[0] - a[0]), a[1] + w * (b[1] - a[1]),
+                                    a[2] + w * (b[2] - a[2]));
+                /* from a random outside point that sees the target face-on */
+                lc_vec3 o = v3_madd(v3_mul(target, 3), random_dir(), 0.5);
+                lc_ray r = {o, v3_norm(v3_sub(target, o))};
+                lc_hit h;
+                rays++;
+                if (!scene_closest(s, &r, HUGE_VAL, &h))
+                    misses++;
+            }
+        }
+    }
+    printf("watertight: %d rays at vertices and edges, %d misses\n", rays, misses);
+    assert_true(rays > 30000);
+    assert_int_equal(misses, 0);
+    lc_scene_free(s);
+    lc_mesh_free(mesh);
+}
+
+/* A degenerate-only mesh compiles to nothing and never yields a hit. */
+static void degenerate_triangles_are_skipped(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_mesh *mesh = lc_mesh_new(&err);
+    double v[12] = {0, 0, 0, 1, 1, 1, 2, 2, 2, 0, 0, 0};
+    uint32_t f[9] = {0, 1, 2, 0, 0, 0, 0, 3, 1};   /* collinear, one point, duplicate */
+    lc_mesh_add_vertices(mesh, v, 4, &err);
+    lc_mesh_add_faces(mesh, f, 3, &err);
+    lc_scene *s = lc_scene_new(&err);
+    lc_material m = lc_material_default();
+    int mi = lc_scene_add_material(s, &m, &err);
+    lc_scene_add_mesh(s, mesh, mi, &err);
+    assert_int_equal(scene_compile(s, &err), LC_OK);
+    assert_int_equal(s->c.degenerate, 3);
+    assert_int_equal(s->c.ntris, 0);
+    lc_ray r = {v3(1, 1, -5), v3(0, 0, 1)};
+    lc_hit h;
+    assert_false(scene_closest(s, &r, HUGE_VAL, &h));
+    lc_scene_free(s);
+    lc_mesh_free(mesh);
+}
+
+static void mesh_rejects_bad_input(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_mesh *mesh = lc_mesh_new(&err);
+    double v[3] = {0, NAN, 0};
+    assert_int_equal(lc_mesh_add_vertices(mesh, v, 1, &err), LC_EARG);
+    assert_non_null(strstr(err.msg, "finite"));
+    double ok[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    assert_int_equal(lc_mesh_add_vertices(mesh, ok, 3, &err), LC_OK);
+    uint32_t f[3] = {0, 1, 3};
+    assert_int_equal(lc_mesh_add_faces(mesh, f, 1, &err), LC_EARG);
+    assert_string_equal(err.field, "faces");
+    assert_int_equal(lc_mesh_face_count(mesh), 0);
+    lc_mesh_free(mesh);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(bvh_matches_brute_force),
+        cmocka_unit_test(mesh_is_watertight),
+        cmocka_unit_test(degenerate_triangles_are_skipped),
+        cmocka_unit_test(mesh_rejects_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
