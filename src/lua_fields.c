@@ -165,7 +165,7 @@ int lf_integer(lua_State *L, int arg, const char *name, int required, int def)
     }
     lua_pop(L, 1);
     if (i < -2000000000 || i > 2000000000)
-        lf_error(L, arg, name, "out of range, got %I", i);
+        lf_error(L, arg, name, "out of range, got %lld", (long long)i);
     return (int)i;
 }
 
