@@ -35,7 +35,8 @@ static double comp(lc_vec3 v, int i) { return i == 0 ? v.x : i == 1 ? v.y : v.z;
 ** parallel ray) is ignored by the comparisons. One interval for the whole
 ** solid means one normal per hit: no seam where two faces meet, and ties
 ** at edges go to the lowest axis. */
-int box_hit(const box_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+static double slabs(const box_geom *g, const lc_ray *r, double tmin, double tmax,
+                    int *axis_out, int *hi_out)
 {
     lc_vec3 o = r->o, d = r->d;
     if (!g->aligned) {
@@ -58,15 +59,31 @@ int box_hit(const box_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit
     }
     if (!(t0 <= t1))
         return 0;
-    double t;
-    int axis, at_hi;
     if (t0 > tmin && t0 < tmax && a0 >= 0) {
-        t = t0; axis = a0; at_hi = hi0;
-    } else if (t1 > tmin && t1 < tmax && a1 >= 0) {
-        t = t1; axis = a1; at_hi = hi1;
-    } else {
-        return 0;
+        *axis_out = a0;
+        *hi_out = hi0;
+        return t0;
     }
+    if (t1 > tmin && t1 < tmax && a1 >= 0) {
+        *axis_out = a1;
+        *hi_out = hi1;
+        return t1;
+    }
+    return 0;
+}
+
+double box_t(const box_geom *g, const lc_ray *r, double tmin, double tmax)
+{
+    int axis, at_hi;
+    return slabs(g, r, tmin, tmax, &axis, &at_hi);
+}
+
+int box_hit(const box_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+{
+    int axis, at_hi;
+    double t = slabs(g, r, tmin, tmax, &axis, &at_hi);
+    if (!(t > 0))
+        return 0;
     lc_vec3 p = v3_madd(r->o, r->d, t);
     if (!isfinite(p.x + p.y + p.z))   /* a NaN ray slips past the NaN-blind slabs */
         return 0;

@@ -11,7 +11,7 @@ typedef struct {
     tri_shear sh;
 } query;
 
-static void query_init(query *q, const lc_ray *r)
+static void query_init(query *q, const lc_ray *r, int triangles)
 {
     q->r = *r;
     double d[3] = {r->d.x, r->d.y, r->d.z};
@@ -22,7 +22,8 @@ static void query_init(query *q, const lc_ray *r)
         q->inv[k] = 1.0 / d[k];         /* +-inf for 0: wanted */
         q->neg[k] = q->inv[k] < 0;      /* from the reciprocal, so -0 counts */
     }
-    tri_shear_init(r->d, &q->sh);
+    if (triangles)                      /* the shear only triangles use */
+        tri_shear_init(r->d, &q->sh);
 }
 
 /* Slab test of a node: returns its entry distance, or +inf when the ray
@@ -43,44 +44,66 @@ static inline double node_enter(const bvh_node *nd, const query *q, double tmax)
     return t0 <= t1 ? t0 : HUGE_VAL;
 }
 
-static int prim_hit(const lc_scene *s, uint32_t id, const query *q, double tmax, lc_hit *h)
+/* Distance to primitive id along the query's ray, 0 for a miss. Spheres,
+** boxes and planes compute the distance only (the nearest is finished
+** later); quads and triangles need most of the work anyway to know they
+** are hit, so they fill *full as they go. */
+static double prim_t(const lc_scene *s, uint32_t id, const query *q, double tmax,
+                     lc_hit *full)
 {
     uint32_t i = PRIM_INDEX(id);
     switch (PRIM_KIND(id)) {
     case PRIM_SPHERE:
-        if (!sphere_hit(&s->spheres[i].g, &q->r, 0, tmax, h))
-            return 0;
-        h->material = s->spheres[i].material;
-        break;
-    case PRIM_QUAD:
-        if (!quad_hit(&s->quads[i].g, &q->r, 0, tmax, h))
-            return 0;
-        h->material = s->quads[i].material;
-        break;
+        return sphere_t(&s->spheres[i].g, &q->r, 0, tmax);
     case PRIM_BOX:
-        if (!box_hit(&s->boxes[i].g, &q->r, 0, tmax, h))
+        return box_t(&s->boxes[i].g, &q->r, 0, tmax);
+    case PRIM_PLANE:
+        return plane_t(&s->planes[i].g, &q->r, 0, tmax);
+    case PRIM_QUAD:
+        if (!quad_hit(&s->quads[i].g, &q->r, 0, tmax, full))
             return 0;
-        h->material = s->boxes[i].material;
+        full->material = s->quads[i].material;
         break;
-    case PRIM_TRIANGLE: {
+    default: {
         const tri_ref *tr = &s->c.tris[i];
         const mesh_prim *mp = &s->meshes[tr->mesh];
         const uint32_t *f = mp->mesh->f + 3 * (size_t)tr->face;
         const double *v = mp->mesh->v;
         if (!tri_hit(v + 3 * (size_t)f[0], v + 3 * (size_t)f[1], v + 3 * (size_t)f[2],
-                     &q->r, &q->sh, 0, tmax, h, h->bary))
+                     &q->r, &q->sh, 0, tmax, full, full->bary))
             return 0;
-        h->material = mp->material;
+        full->material = mp->material;
         break;
     }
-    default:
-        if (!plane_hit(&s->planes[i].g, &q->r, 0, tmax, h))
-            return 0;
+    }
+    full->shape = id;
+    return full->t;
+}
+
+/* Fills *h for the nearest hit found by prim_t (at distance t). */
+static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t, lc_hit *h)
+{
+    uint32_t i = PRIM_INDEX(id);
+    double tmax = next_up(t);               /* the same test finds the same t */
+    int ok;
+    switch (PRIM_KIND(id)) {
+    case PRIM_SPHERE:
+        ok = sphere_hit(&s->spheres[i].g, &q->r, 0, tmax, h);
+        h->material = s->spheres[i].material;
+        break;
+    case PRIM_BOX:
+        ok = box_hit(&s->boxes[i].g, &q->r, 0, tmax, h);
+        h->material = s->boxes[i].material;
+        break;
+    case PRIM_PLANE:
+        ok = plane_hit(&s->planes[i].g, &q->r, 0, tmax, h);
         h->material = s->planes[i].material;
         break;
+    default:
+        return 1;                        /* already complete */
     }
     h->shape = id;
-    return 1;
+    return ok;
 }
 
 /* Interpolated vertex normals, where the mesh has them. */
@@ -113,15 +136,21 @@ static void shading_normal(const lc_scene *s, lc_hit *h)
 int scene_closest(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h)
 {
     query q;
-    query_init(&q, r);
-    int found = 0;
+    query_init(&q, r, s->c.ntris > 0);
+    double best = 0;
+    uint32_t best_id = 0;
     lc_hit tmp;
 #define CONSIDER(id)                                                             \
-    if (prim_hit(s, (id), &q, tmax, &tmp) &&                                     \
-        (!found || tmp.t < h->t || (tmp.t == h->t && tmp.shape < h->shape))) {   \
-        *h = tmp;                                                                \
-        tmax = nextafter(tmp.t, HUGE_VAL);                                       \
-        found = 1;                                                               \
+    {                                                                            \
+        uint32_t id_ = (id);                                                     \
+        double t_ = prim_t(s, id_, &q, tmax, &tmp);                              \
+        if (t_ > 0 && (best == 0 || t_ < best || (t_ == best && id_ < best_id))) { \
+            best = t_;                                                           \
+            best_id = id_;                                                       \
+            if (PRIM_KIND(id_) == PRIM_QUAD || PRIM_KIND(id_) == PRIM_TRIANGLE)  \
+                *h = tmp;                                                        \
+            tmax = next_up(t_);                                                  \
+        }                                                                        \
     }
     for (size_t i = 0; i < s->nplanes; i++)
         CONSIDER(PRIM_ID(PRIM_PLANE, i))
@@ -165,18 +194,19 @@ int scene_closest(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h)
     }
 done:
 #undef CONSIDER
-    if (found)
-        shading_normal(s, h);
-    return found;
+    if (best == 0 || !prim_finish(s, best_id, &q, best, h))
+        return 0;
+    shading_normal(s, h);
+    return 1;
 }
 
 int scene_occluded(const lc_scene *s, const lc_ray *r, double tmax)
 {
     query q;
-    query_init(&q, r);
+    query_init(&q, r, s->c.ntris > 0);
     lc_hit tmp;
     for (size_t i = 0; i < s->nplanes; i++)
-        if (prim_hit(s, PRIM_ID(PRIM_PLANE, i), &q, tmax, &tmp))
+        if (prim_t(s, PRIM_ID(PRIM_PLANE, i), &q, tmax, &tmp) > 0)
             return 1;
     const bvh *b = &s->c.bvh;
     if (!b->nnodes)
@@ -190,7 +220,7 @@ int scene_occluded(const lc_scene *s, const lc_ray *r, double tmax)
         const bvh_node *nd = &b->nodes[ni];
         if (nd->count) {
             for (uint32_t k = 0; k < nd->count; k++)
-                if (prim_hit(s, b->refs[nd->start + k], &q, tmax, &tmp))
+                if (prim_t(s, b->refs[nd->start + k], &q, tmax, &tmp) > 0)
                     return 1;
         } else {
             uint32_t c0 = ni + 1, c1 = nd->start;

@@ -47,7 +47,7 @@ lc_vec3 plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
     return p;
 }
 
-int plane_hit(const plane_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+double plane_t(const plane_geom *g, const lc_ray *r, double tmin, double tmax)
 {
     double denom = v3_dot(g->n, r->d);
     if (denom == 0)        /* exactly parallel; no epsilon band near grazing */
@@ -55,7 +55,13 @@ int plane_hit(const plane_geom *g, const lc_ray *r, double tmin, double tmax, lc
     /* n.(p - o), not k - n.o: the difference is taken before the dot
     ** product, so t stays exact to a few ulps of |p - o|, not of |o|. */
     double t = v3_dot(g->n, v3_sub(g->p, r->o)) / denom;
-    if (!(t > tmin && t < tmax))   /* NaN and inf fail here */
+    return t > tmin && t < tmax ? t : 0;   /* NaN and inf fail here */
+}
+
+int plane_hit(const plane_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+{
+    double t = plane_t(g, r, tmin, tmax);
+    if (!(t > 0))
         return 0;
     lc_vec3 perr;
     lc_vec3 p = plane_snap(v3_madd(r->o, r->d, t), g->n, g->k, g->axis,

@@ -13,11 +13,8 @@ lc_vec3 spawn_origin(const lc_hit *h, lc_vec3 w)
     if (v3_dot(w, n) < 0)
         off = v3_neg(off);
     lc_vec3 po = v3_add(h->p, off);
-    if (off.x > 0) po.x = nextafter(po.x, HUGE_VAL);
-    else if (off.x < 0) po.x = nextafter(po.x, -HUGE_VAL);
-    if (off.y > 0) po.y = nextafter(po.y, HUGE_VAL);
-    else if (off.y < 0) po.y = nextafter(po.y, -HUGE_VAL);
-    if (off.z > 0) po.z = nextafter(po.z, HUGE_VAL);
-    else if (off.z < 0) po.z = nextafter(po.z, -HUGE_VAL);
+    if (off.x != 0) po.x = next_toward(po.x, off.x > 0 ? 1 : -1);
+    if (off.y != 0) po.y = next_toward(po.y, off.y > 0 ? 1 : -1);
+    if (off.z != 0) po.z = next_toward(po.z, off.z > 0 ? 1 : -1);
     return po;
 }

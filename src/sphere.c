@@ -12,7 +12,7 @@ void sphere_prepare(const lc_shape *s, sphere_geom *g)
 ** offset from the centre, the discriminant is (r - |v|)(r + |v|), which
 ** never subtracts nearly equal large numbers (Haines et al., RTG ch. 7).
 ** The roots are taken as c/q and q (Press et al.), so neither cancels. */
-int sphere_hit(const sphere_geom *s, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
 {
     lc_vec3 f = v3_sub(r->o, s->c);
     double b = v3_dot(f, r->d);
@@ -30,12 +30,19 @@ int sphere_hit(const sphere_geom *s, const lc_ray *r, double tmin, double tmax, 
     if (t0 > t1) {
         double tt = t0; t0 = t1; t1 = tt;
     }
-    double t = t0;
-    if (!(t > tmin && t < tmax)) {
-        t = t1;
-        if (!(t > tmin && t < tmax))
-            return 0;
-    }
+    if (t0 > tmin && t0 < tmax)
+        return t0;
+    if (t1 > tmin && t1 < tmax)
+        return t1;
+    return 0;
+}
+
+int sphere_hit(const sphere_geom *s, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+{
+    double t = sphere_t(s, r, tmin, tmax);
+    if (!(t > 0))
+        return 0;
+    lc_vec3 f = v3_sub(r->o, s->c);
     /* Put the point back onto the sphere: what remains is bounded by
     ** gamma(5)|p_local| (pbrt-v4); adding the centre rounds once more. */
     lc_vec3 pl = v3_madd(f, r->d, t);

@@ -4,6 +4,8 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 #include "lancer.h"
 
 static inline lc_vec3 v3(double x, double y, double z)
@@ -31,6 +33,32 @@ static inline lc_vec3 v3_norm(lc_vec3 a) { return v3_mul(a, 1.0 / v3_len(a)); }
 static inline lc_vec3 v3_madd(lc_vec3 a, lc_vec3 b, double s)  /* a + b*s */
 {
     return v3(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s);
+}
+
+/* The next double above a positive finite x, without libm's call: the
+** render loop widens every accepted distance by one ulp to keep ties. */
+static inline double next_up(double x)
+{
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    u++;
+    memcpy(&x, &u, sizeof x);
+    return x;
+}
+
+/* One ulp from finite x, up (+1) or down (-1): nextafter without the call. */
+static inline double next_toward(double x, int up)
+{
+    if (x == 0)
+        return up > 0 ? 4.9406564584124654e-324 : -4.9406564584124654e-324;
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    if ((x > 0) == (up > 0))
+        u++;
+    else
+        u--;
+    memcpy(&x, &u, sizeof x);
+    return x;
 }
 
 /* gamma(n) bounds the relative error of n chained roundings (pbrt-v4, 6.8). */
