@@ -35,22 +35,32 @@ static double comp(lc_vec3 v, int i) { return i == 0 ? v.x : i == 1 ? v.y : v.z;
 ** parallel ray) is ignored by the comparisons. One interval for the whole
 ** solid means one normal per hit: no seam where two faces meet, and ties
 ** at edges go to the lowest axis. */
-static double slabs(const box_geom *g, const lc_ray *r, double tmin, double tmax,
-                    int *axis_out, int *hi_out)
+static double slabs(const box_geom *g, const lc_ray *r, const double *rinv, double tmin,
+                    double tmax, int *axis_out, int *hi_out)
 {
     lc_vec3 o = r->o, d = r->d;
-    if (!g->aligned) {
+    double inv[3];
+    if (g->aligned && rinv) {            /* the ray's own reciprocals serve */
+        inv[0] = rinv[0];
+        inv[1] = rinv[1];
+        inv[2] = rinv[2];
+    } else {
+        if (!g->aligned) {
         lc_vec3 oq = v3_sub(r->o, g->q);
         o = v3(v3_dot(g->row[0], oq), v3_dot(g->row[1], oq), v3_dot(g->row[2], oq));
-        d = v3(v3_dot(g->row[0], r->d), v3_dot(g->row[1], r->d), v3_dot(g->row[2], r->d));
+            d = v3(v3_dot(g->row[0], r->d), v3_dot(g->row[1], r->d),
+                   v3_dot(g->row[2], r->d));
+        }
+        inv[0] = 1.0 / d.x;
+        inv[1] = 1.0 / d.y;
+        inv[2] = 1.0 / d.z;
     }
     double t0 = -HUGE_VAL, t1 = HUGE_VAL;
     int a0 = -1, a1 = -1, hi0 = 0, hi1 = 0;
     for (int i = 0; i < 3; i++) {
-        double inv = 1.0 / comp(d, i);
-        double tn = (g->lo[i] - comp(o, i)) * inv;
-        double tf = (g->hi[i] - comp(o, i)) * inv;
-        int neg = inv < 0;
+        double tn = (g->lo[i] - comp(o, i)) * inv[i];
+        double tf = (g->hi[i] - comp(o, i)) * inv[i];
+        int neg = inv[i] < 0;
         if (neg) {
             double tt = tn; tn = tf; tf = tt;
         }
@@ -72,16 +82,17 @@ static double slabs(const box_geom *g, const lc_ray *r, double tmin, double tmax
     return 0;
 }
 
-double box_t(const box_geom *g, const lc_ray *r, double tmin, double tmax)
+double box_t(const box_geom *g, const lc_ray *r, const double *inv, double tmin,
+             double tmax)
 {
     int axis, at_hi;
-    return slabs(g, r, tmin, tmax, &axis, &at_hi);
+    return slabs(g, r, inv, tmin, tmax, &axis, &at_hi);
 }
 
 int box_hit(const box_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
 {
     int axis, at_hi;
-    double t = slabs(g, r, tmin, tmax, &axis, &at_hi);
+    double t = slabs(g, r, NULL, tmin, tmax, &axis, &at_hi);
     if (!(t > 0))
         return 0;
     lc_vec3 p = v3_madd(r->o, r->d, t);

@@ -71,8 +71,11 @@ void tri_shear_init(lc_vec3 d, tri_shear *s);
 /* The same tests reduced to the distance (0 for a miss): enough to find the
 ** nearest hit; only the winner is then finished by the *_hit function. */
 double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax);
-double box_t(const box_geom *b, const lc_ray *r, double tmin, double tmax);
-double plane_t(const plane_geom *p, const lc_ray *r, double tmin, double tmax);
+/* inv: the ray's reciprocal direction (1/d per axis), or NULL to compute it. */
+double box_t(const box_geom *b, const lc_ray *r, const double *inv, double tmin,
+             double tmax);
+double plane_t(const plane_geom *p, const lc_ray *r, const double *inv, double tmin,
+               double tmax);
 
 void sphere_prepare(const lc_shape *s, sphere_geom *g);
 void quad_prepare(const lc_shape *s, quad_geom *g);

@@ -56,9 +56,9 @@ static double prim_t(const lc_scene *s, uint32_t id, const query *q, double tmax
     case PRIM_SPHERE:
         return sphere_t(&s->spheres[i].g, &q->r, 0, tmax);
     case PRIM_BOX:
-        return box_t(&s->boxes[i].g, &q->r, 0, tmax);
+        return box_t(&s->boxes[i].g, &q->r, q->inv, 0, tmax);
     case PRIM_PLANE:
-        return plane_t(&s->planes[i].g, &q->r, 0, tmax);
+        return plane_t(&s->planes[i].g, &q->r, q->inv, 0, tmax);
     case PRIM_QUAD:
         if (!quad_hit(&s->quads[i].g, &q->r, 0, tmax, full))
             return 0;

@@ -47,24 +47,37 @@ lc_vec3 plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
     return p;
 }
 
-double plane_t(const plane_geom *g, const lc_ray *r, double tmin, double tmax)
+double plane_t(const plane_geom *g, const lc_ray *r, const double *inv, double tmin,
+               double tmax)
 {
-    double denom = v3_dot(g->n, r->d);
-    if (denom == 0)        /* exactly parallel; no epsilon band near grazing */
-        return 0;
-    /* n.(p - o), not k - n.o: the difference is taken before the dot
-    ** product, so t stays exact to a few ulps of |p - o|, not of |o|. */
-    double t = v3_dot(g->n, v3_sub(g->p, r->o)) / denom;
+    double t;
+    if (g->axis >= 0) {
+        /* Axis planes (walls, floors): one subtraction and the ray's own
+        ** reciprocal. A parallel ray gives inf or NaN, refused below. */
+        int a = g->axis;
+        double i = inv ? inv[a] : 1.0 / v3_comp(r->d, a);
+        t = (v3_comp(g->p, a) - v3_comp(r->o, a)) * i;
+    } else {
+        double denom = v3_dot(g->n, r->d);
+        if (denom == 0)    /* exactly parallel; no epsilon band near grazing */
+            return 0;
+        /* n.(p - o), not k - n.o: the difference is taken before the dot
+        ** product, so t stays exact to a few ulps of |p - o|, not of |o|. */
+        t = v3_dot(g->n, v3_sub(g->p, r->o)) / denom;
+    }
     return t > tmin && t < tmax ? t : 0;   /* NaN and inf fail here */
 }
 
 int plane_hit(const plane_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
 {
-    double t = plane_t(g, r, tmin, tmax);
+    double t = plane_t(g, r, NULL, tmin, tmax);
     if (!(t > 0))
         return 0;
+    lc_vec3 raw = v3_madd(r->o, r->d, t);
+    if (!isfinite(raw.x + raw.y + raw.z))   /* NaN in a component an axis plane skips */
+        return 0;
     lc_vec3 perr;
-    lc_vec3 p = plane_snap(v3_madd(r->o, r->d, t), g->n, g->k, g->axis,
+    lc_vec3 p = plane_snap(raw, g->n, g->k, g->axis,
                            v3_comp(g->p, g->axis < 0 ? 0 : g->axis), &perr);
     h->t = t;
     h->p = p;
