@@ -74,8 +74,8 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
 /* inv: the ray's reciprocal direction (1/d per axis), or NULL to compute it. */
 double box_t(const box_geom *b, const lc_ray *r, const double *inv, double tmin,
              double tmax);
-double plane_t(const plane_geom *p, const lc_ray *r, const double *inv, double tmin,
-               double tmax);
+static inline double plane_t(const plane_geom *g, const lc_ray *r, const double *inv,
+                             double tmin, double tmax);
 
 void sphere_prepare(const lc_shape *s, sphere_geom *g);
 void quad_prepare(const lc_shape *s, quad_geom *g);
@@ -89,5 +89,27 @@ lc_vec3 plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
 /* A point just off the surface on the side of w, provably not behind it
 ** (pbrt-v4's OffsetRayOrigin). */
 lc_vec3 spawn_origin(const lc_hit *h, lc_vec3 w);
+
+/* Inline: every ray meets every infinite plane, shadow rays included. */
+static inline double plane_t(const plane_geom *g, const lc_ray *r, const double *inv,
+                             double tmin, double tmax)
+{
+    double t;
+    if (g->axis >= 0) {
+        /* Axis planes (walls, floors): one subtraction and the ray's own
+        ** reciprocal. A parallel ray gives inf or NaN, refused below. */
+        int a = g->axis;
+        double i = inv ? inv[a] : 1.0 / v3_comp(r->d, a);
+        t = (v3_comp(g->p, a) - v3_comp(r->o, a)) * i;
+    } else {
+        double denom = v3_dot(g->n, r->d);
+        if (denom == 0)    /* exactly parallel; no epsilon band near grazing */
+            return 0;
+        /* n.(p - o), not k - n.o: the difference is taken before the dot
+        ** product, so t stays exact to a few ulps of |p - o|, not of |o|. */
+        t = v3_dot(g->n, v3_sub(g->p, r->o)) / denom;
+    }
+    return t > tmin && t < tmax ? t : 0;   /* NaN and inf fail here */
+}
 
 #endif

@@ -48,7 +48,7 @@ static inline double node_enter(const bvh_node *nd, const query *q, double tmax)
 ** boxes and planes compute the distance only (the nearest is finished
 ** later); quads and triangles need most of the work anyway to know they
 ** are hit, so they fill *full as they go. */
-static double prim_t(const lc_scene *s, uint32_t id, const query *q, double tmax,
+static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, double tmax,
                      lc_hit *full)
 {
     uint32_t i = PRIM_INDEX(id);
@@ -152,8 +152,14 @@ int scene_closest(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h)
             tmax = next_up(t_);                                                  \
         }                                                                        \
     }
-    for (size_t i = 0; i < s->nplanes; i++)
-        CONSIDER(PRIM_ID(PRIM_PLANE, i))
+    for (size_t i = 0; i < s->nplanes; i++) {   /* planes first: they bound tmax */
+        double t = plane_t(&s->planes[i].g, &q.r, q.inv, 0, tmax);
+        if (t > 0 && (best == 0 || t < best)) {   /* in id order: a tie keeps the first */
+            best = t;
+            best_id = PRIM_ID(PRIM_PLANE, i);
+            tmax = next_up(t);
+        }
+    }
     const bvh *b = &s->c.bvh;
     if (b->nnodes && node_enter(&b->nodes[0], &q, tmax) < HUGE_VAL) {
         /* Children are tested from their parent: the nearer is visited
@@ -206,7 +212,7 @@ int scene_occluded(const lc_scene *s, const lc_ray *r, double tmax)
     query_init(&q, r, s->c.ntris > 0);
     lc_hit tmp;
     for (size_t i = 0; i < s->nplanes; i++)
-        if (prim_t(s, PRIM_ID(PRIM_PLANE, i), &q, tmax, &tmp) > 0)
+        if (plane_t(&s->planes[i].g, &q.r, q.inv, 0, tmax) > 0)
             return 1;
     const bvh *b = &s->c.bvh;
     if (!b->nnodes)

@@ -47,27 +47,6 @@ lc_vec3 plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
     return p;
 }
 
-double plane_t(const plane_geom *g, const lc_ray *r, const double *inv, double tmin,
-               double tmax)
-{
-    double t;
-    if (g->axis >= 0) {
-        /* Axis planes (walls, floors): one subtraction and the ray's own
-        ** reciprocal. A parallel ray gives inf or NaN, refused below. */
-        int a = g->axis;
-        double i = inv ? inv[a] : 1.0 / v3_comp(r->d, a);
-        t = (v3_comp(g->p, a) - v3_comp(r->o, a)) * i;
-    } else {
-        double denom = v3_dot(g->n, r->d);
-        if (denom == 0)    /* exactly parallel; no epsilon band near grazing */
-            return 0;
-        /* n.(p - o), not k - n.o: the difference is taken before the dot
-        ** product, so t stays exact to a few ulps of |p - o|, not of |o|. */
-        t = v3_dot(g->n, v3_sub(g->p, r->o)) / denom;
-    }
-    return t > tmin && t < tmax ? t : 0;   /* NaN and inf fail here */
-}
-
 int plane_hit(const plane_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
 {
     double t = plane_t(g, r, NULL, tmin, tmax);
