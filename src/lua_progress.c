@@ -6,7 +6,7 @@
 #include <unistd.h>
 #include "lua_progress.h"
 
-#define DELAY   1.0    /* seconds before the bar appears: short renders stay quiet */
+#define DELAY   1.0    /* when automatic, short renders stay quiet */
 #define REDRAW  0.1    /* at most ten redraws a second */
 #define WIDTH   30
 
@@ -20,6 +20,7 @@ static double now(void)
 void lua_progress_begin(lua_progress *p, int enabled)
 {
     memset(p, 0, sizeof *p);
+    p->delay = enabled < 0 ? DELAY : 0;     /* asked for: shown from the start */
     if (enabled < 0) {
         const char *term = getenv("TERM");
         enabled = isatty(STDERR_FILENO) && !(term && strcmp(term, "dumb") == 0);
@@ -32,7 +33,7 @@ int lua_progress_update(void *ud, double done)
 {
     lua_progress *p = ud;
     double t = now(), elapsed = t - p->start;
-    if (!p->enabled || elapsed < DELAY || t - p->last < REDRAW)
+    if (!p->enabled || elapsed < p->delay || (p->shown && t - p->last < REDRAW))
         return 0;
     p->last = t;
     int fill = (int)(done * WIDTH + 0.5);

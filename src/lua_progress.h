@@ -7,6 +7,7 @@ typedef struct {
     double last;       /* when the bar was last drawn */
     int    shown;      /* the bar is on screen */
     int    enabled;
+    double delay;      /* seconds before the first draw */
 } lua_progress;
 
 /* enabled: 1 always, 0 never, -1 when stderr is a terminal (and TERM is not dumb). */

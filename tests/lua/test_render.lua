@@ -1,0 +1,102 @@
+-- test_render.lua: threads, determinism, statistics and the progress bar.
+local T = require "harness"
+local lancer = require "lancer"
+
+-- 2000 random spheres and a 50x50 height-field mesh: a real BVH.
+local function busy_scene()
+  local s = 7
+  local function u()
+    s = s * 6364136223846793005 + 1442695040888963407
+    return (s >> 11) * (1.0 / 9007199254740992.0)
+  end
+  local scene = lancer.scene{camera = lancer.camera{from = {0, 8, 30}, at = {0, 0, 0}},
+                             ambient = 0.1, background = {0.3, 0.4, 0.6}}
+  local mats = {}
+  for k = 1, 4 do
+    mats[k] = lancer.material{color = {u(), u(), u()}, kr = k == 1 and 0.5 or 0, ks = 0.3}
+  end
+  for k = 1, 2000 do
+    scene:add(lancer.sphere{center = {40 * u() - 20, 3 * u(), 40 * u() - 20},
+                            radius = 0.1 + 0.4 * u(), material = mats[k % 4 + 1]})
+  end
+  local mesh, Q = lancer.mesh{}, 50
+  for j = 0, Q do
+    local row = {}
+    for i = 0, Q do
+      local x, z = -25 + 50 * i / Q, -25 + 50 * j / Q
+      row[#row + 1], row[#row + 2], row[#row + 3] = x, math.sin(x * 0.3) * math.cos(z * 0.2), z
+    end
+    mesh:add_vertices(row)
+  end
+  for j = 0, Q - 1 do
+    for i = 0, Q - 1 do
+      local a = j * (Q + 1) + i + 1
+      mesh:add_faces{a, a + 1, a + Q + 2, a, a + Q + 2, a + Q + 1}
+    end
+  end
+  scene:add(mesh)
+  scene:add(lancer.point_light{position = {10, 20, 10}, intensity = 600})
+  return scene
+end
+
+T.test("the image is bit-identical across thread counts and runs", function()
+  local scene = busy_scene()
+  local opts = {width = 96, height = 64, samples = 4}
+  local ref, st = scene:render{width = 96, height = 64, samples = 4, threads = 1}
+  for _, n in ipairs{2, 3, 8} do
+    opts.threads = n
+    local d = ref:diff(scene:render(opts), 0)
+    T.eq(d.max, 0, ("largest difference with %d threads"):format(n))
+  end
+  opts.threads = 2
+  T.eq(ref:diff(scene:render(opts), 0).max, 0, "a second run")
+  T.eq(st.threads, 1, "threads used")
+  T.eq(T.bad_pixels(ref), 0, "NaN or infinite pixels")
+end)
+
+T.test("statistics count the hierarchy and the primitives", function()
+  local scene = busy_scene()
+  local _, st = scene:render{width = 8, height = 8}
+  T.eq(st.primitives, 2000 + 2 * 50 * 50, "spheres plus triangles")
+  assert(st.bvh_nodes > 100 and st.bvh_nodes < 2 * st.primitives,
+         "node count " .. st.bvh_nodes)
+  assert(st.compile_seconds > 0, "the first render builds the hierarchy")
+  local _, again = scene:render{width = 8, height = 8}
+  assert(again.compile_seconds < st.compile_seconds,
+         "an unchanged scene is not rebuilt: " .. again.compile_seconds)
+  scene:add(lancer.sphere{center = {0, 50, 0}, radius = 1})
+  local _, after = scene:render{width = 8, height = 8}
+  T.eq(after.primitives, st.primitives + 1, "a new sphere is traced")
+end)
+
+-- A script whose render takes a few tenths of a second at one thread.
+local SLOW = [[
+local lancer = require "lancer"
+local s = lancer.scene{camera = lancer.camera{from = {0, 0, -4}, at = {0, 0, 0}}}
+for i = 1, 100 do
+  s:add(lancer.sphere{center = {math.sin(i), math.cos(i), i * 0.01}, radius = 0.5,
+                      material = lancer.material{kr = 0.5}})
+end
+s:add(lancer.point_light{position = {0, 3, -3}, intensity = 9})
+s:render{width = 200, height = 150, samples = 16, threads = 1, progress = PROGRESS}
+]]
+
+local function run_slow(progress)
+  local path = os.tmpname()
+  local f = assert(io.open(path, "w"))
+  f:write((SLOW:gsub("PROGRESS", progress)))
+  f:close()
+  local out, err, code = T.run(T.lancer .. " " .. path)
+  os.remove(path)
+  T.eq(code, 0, "exit status; stderr: " .. err)
+  return err
+end
+
+T.test("progress: a bar with the time left when asked, nothing when not", function()
+  local err = run_slow("true")
+  assert(err:find("[#", 1, true) and err:find("% ", 1, true) and err:find("left", 1, true),
+         "no progress bar in: " .. err)
+  assert(err:sub(-4) == "\r\27[K", "the bar is cleared at the end")
+  -- stderr is a file here, not a terminal: the default draws nothing.
+  T.eq(run_slow("nil"), "", "stderr without a terminal")
+end)
