@@ -1,0 +1,132 @@
+-- scenes.lua: BENCH.md's scenes B1, B2 and B3 as plain data, for the peer writers.
+--
+-- lancer's own versions are scenes/bench/b*.lua, written against its API;
+-- this file says the same thing once more in renderer-neutral terms so that
+-- povray.lua and tachyon.lua write their files from one description. Keep
+-- both in step with BENCH.md, not with each other.
+--
+-- A scene is a table:
+--   camera      {eye = {x,y,z}, target = {x,y,z}, up = {x,y,z}, hfov = degrees}
+--   width, height, depth (mirror bounces), background {r,g,b}
+--   lights      list of {position = {x,y,z}, color = {r,g,b}} (point lights, no falloff)
+--   materials   name -> {color = {r,g,b}, ka, kd, ks, n, kr}
+--   planes      list of {point, normal, material}
+--   boxes       list of {min, max, material} (axis-aligned)
+--   spheres(emit)  calls emit(x, y, z, r, material) for every sphere, in order
+--   sphere_decimals  digits the writers give sphere numbers (nil: full precision)
+--   mesh        nil or {q = Q, height = h(x, z), material} (BENCH.md's B3 grid)
+local M = {}
+
+M.WIDTH, M.HEIGHT = 1280, 720
+
+local function list_emitter(list)
+  return function(emit)
+    for _, s in ipairs(list) do emit(s[1], s[2], s[3], s[4], s[5]) end
+  end
+end
+
+-- B1 "mirror room"; samples is chosen by the command line, not here.
+function M.b1()
+  local function m(c, ka, kd, ks, n, kr)
+    return {color = c, ka = ka, kd = kd, ks = ks, n = n, kr = kr}
+  end
+  return {
+    name = "b1",
+    camera = {eye = {0, 2, 5.5}, target = {0, 1.2, -2}, up = {0, 1, 0}, hfov = 70},
+    width = M.WIDTH, height = M.HEIGHT, depth = 3, background = {0, 0, 0},
+    lights = {{position = {0, 4.5, 2.0}, color = {0.7, 0.7, 0.7}},
+              {position = {-3, 3, -4.5}, color = {0.6, 0.35, 0.08}}},
+    materials = {
+      floor   = m({0.75, 0.72, 0.65}, 0.1, 0.7, 0, 0, 0.3),
+      ceiling = m({0.90, 0.90, 0.90}, 0.1, 0.7, 0, 0, 0.3),
+      left    = m({0.80, 0.30, 0.30}, 0.1, 0.7, 0, 0, 0.3),
+      right   = m({0.30, 0.40, 0.80}, 0.1, 0.7, 0, 0, 0.3),
+      back    = m({0.80, 0.80, 0.80}, 0.1, 0.7, 0, 0, 0.3),
+      front   = m({0.60, 0.80, 0.60}, 0.1, 0.7, 0, 0, 0.3),
+      mirror  = m({1, 1, 1},          0,   0,   0, 0, 0.9),
+      green   = m({0.10, 0.80, 0.10}, 0.1, 0.9, 0, 0, 0),
+      shiny   = m({0.95, 0.95, 0.95}, 0.1, 0.6, 0.8, 50, 0),
+      boxm    = m({0.80, 0.55, 0.20}, 0.1, 0.8, 0, 0, 0),
+    },
+    planes = {
+      {point = {0, 0, 0},  normal = {0, 1, 0},  material = "floor"},
+      {point = {0, 5, 0},  normal = {0, -1, 0}, material = "ceiling"},
+      {point = {-4, 0, 0}, normal = {1, 0, 0},  material = "left"},
+      {point = {4, 0, 0},  normal = {-1, 0, 0}, material = "right"},
+      {point = {0, 0, -6}, normal = {0, 0, 1},  material = "back"},
+      {point = {0, 0, 6},  normal = {0, 0, -1}, material = "front"},
+    },
+    boxes = {{min = {1.0, 0.0, -4.4}, max = {2.6, 1.6, -2.8}, material = "boxm"}},
+    spheres = list_emitter{{-1.6, 1.2, -2.0, 1.2, "mirror"},
+                           {1.8, 0.8, -0.5, 0.8, "green"},
+                           {0.2, 0.7, 1.2, 0.7, "shiny"}},
+  }
+end
+
+-- B2 "many spheres": n spheres from BENCH.md's PRNG (seed 1) on a ground plane.
+local PALETTE = {{0.9, 0.2, 0.2}, {0.2, 0.9, 0.2}, {0.2, 0.3, 0.9}, {0.9, 0.9, 0.2},
+                 {0.9, 0.2, 0.9}, {0.2, 0.9, 0.9}, {0.95, 0.95, 0.95}, {0.9, 0.5, 0.1}}
+
+function M.b2(n)
+  local materials = {
+    ground = {color = {0.6, 0.6, 0.6}, ka = 0.1, kd = 0.8, ks = 0, n = 0, kr = 0}}
+  for k, c in ipairs(PALETTE) do
+    materials["p" .. (k - 1)] = {color = c, ka = 0.1, kd = 0.8, ks = 0, n = 0, kr = 0}
+  end
+  local function spheres(emit)
+    local s = 1                      -- the LCG; Lua integers wrap mod 2^64
+    local function u()
+      s = s * 6364136223846793005 + 1442695040888963407
+      return (s >> 11) * (1.0 / 9007199254740992.0)
+    end
+    for k = 0, n - 1 do
+      local x = -50 + 100 * u()
+      local z = -50 + 100 * u()
+      local r = 0.05 + 0.25 * u()
+      emit(x, r, z, r, "p" .. (k % 8))
+    end
+  end
+  return {
+    name = "b2",
+    camera = {eye = {0, 12, 62}, target = {0, 0, 0}, up = {0, 1, 0}, hfov = 60},
+    width = M.WIDTH, height = M.HEIGHT, depth = 3, background = {0.5, 0.7, 1.0},
+    lights = {{position = {40, 60, 30}, color = {1, 1, 1}}},
+    materials = materials,
+    planes = {{point = {0, 0, 0}, normal = {0, 1, 0}, material = "ground"}},
+    boxes = {},
+    spheres = spheres,
+    sphere_decimals = 5,             -- BENCH.md: centre and radius with 5 decimals
+  }
+end
+
+-- B3 "mesh": a q x q height field, 2 triangles a quad.
+local sin, cos = math.sin, math.cos
+local function height(x, z)
+  return 3.0 * sin(0.11 * x) * cos(0.13 * z)
+       + 1.2 * sin(0.37 * x + 1.0) * sin(0.29 * z + 2.0)
+       + 0.35 * sin(1.3 * x + 0.3) * cos(1.7 * z + 0.7)
+       + 0.1 * sin(5.1 * x) * cos(4.3 * z)
+end
+
+function M.b3(q)
+  return {
+    name = "b3",
+    camera = {eye = {0, 14, 62}, target = {0, 0, 0}, up = {0, 1, 0}, hfov = 60},
+    width = M.WIDTH, height = M.HEIGHT, depth = 3, background = {0.5, 0.7, 1.0},
+    lights = {{position = {60, 25, 20}, color = {1, 1, 1}}},
+    materials = {terrain = {color = {0.55, 0.65, 0.40}, ka = 0.1, kd = 0.8, ks = 0, n = 0,
+                            kr = 0}},
+    planes = {}, boxes = {},
+    spheres = list_emitter{},
+    mesh = {q = q, height = height, material = "terrain"},
+  }
+end
+
+-- The grid's vertex (i, j), 0-based: x_i = -50 + 100 i/Q, z_j likewise.
+function M.grid_vertex(mesh, i, j)
+  local x = -50 + 100 * i / mesh.q
+  local z = -50 + 100 * j / mesh.q
+  return x, mesh.height(x, z), z
+end
+
+return M
