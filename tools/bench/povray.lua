@@ -1,0 +1,118 @@
+-- povray.lua: writes a scenes.lua scene as a POV-Ray 3.7 file; how to render it.
+--
+-- BENCH.md's rules: right-handed camera through `right -x*W/H`, point lights
+-- without fade, finish { ambient kd phong reflection } (POV-Ray's colour
+-- scales ambient and diffuse only, as the spec's shading does),
+-- max_trace_level = depth + 1, no adaptive depth cut-off (adc_bailout 0),
+-- linear output (assumed_gamma 1.0 in the file, File_Gamma=1.0 on the
+-- command line). No #declare: every object carries its own texture, so the
+-- file is exactly what the scene says, object by object.
+local P = {}
+
+local fmt = string.format
+
+local function num(x) return fmt("%.10g", x) end
+local function vec(v) return fmt("<%s, %s, %s>", num(v[1]), num(v[2]), num(v[3])) end
+
+-- One texture per material, written out in full where each object needs it.
+local function texture(m)
+  local finish = {fmt("ambient %s diffuse %s", num(m.ka), num(m.kd))}
+  if m.ks > 0 then
+    finish[#finish + 1] = fmt("phong %s phong_size %s", num(m.ks), num(m.n))
+  end
+  if m.kr > 0 then finish[#finish + 1] = fmt("reflection { %s }", num(m.kr)) end
+  return fmt("texture { pigment { rgb %s } finish { %s } }", vec(m.color),
+             table.concat(finish, " "))
+end
+
+local function write_header(f, scene)
+  local c = scene.camera
+  f:write("// ", scene.name, ", written by lancer's tools/bench/povray.lua\n")
+  f:write("#version 3.7;\n")
+  f:write(fmt("global_settings { assumed_gamma 1.0 ambient_light rgb 1 " ..
+              "max_trace_level %d adc_bailout 0 }\n", scene.depth + 1))
+  -- look_at last: POV-Ray turns the right/up/direction vectors it has so far.
+  f:write(fmt("camera { perspective location %s sky %s right -x*%d/%d up y angle %s " ..
+              "look_at %s }\n", vec(c.eye), vec(c.up), scene.width, scene.height,
+              num(c.hfov), vec(c.target)))
+  f:write(fmt("background { rgb %s }\n", vec(scene.background)))
+  for _, l in ipairs(scene.lights) do
+    f:write(fmt("light_source { %s rgb %s }\n", vec(l.position), vec(l.color)))
+  end
+end
+
+-- B3's grid as one mesh2: every vertex once, then the faces by index.
+local function write_mesh(f, scene, grid)
+  local mesh = scene.mesh
+  local q = mesh.q
+  f:write(fmt("mesh2 {\n vertex_vectors { %d,\n", (q + 1) * (q + 1)))
+  for j = 0, q do
+    local row = {}
+    for i = 0, q do
+      row[i + 1] = fmt("<%.5f,%.5f,%.5f>,", grid(mesh, i, j))
+    end
+    f:write(table.concat(row), "\n")
+  end
+  f:write(fmt(" }\n face_indices { %d,\n", 2 * q * q))
+  for j = 0, q - 1 do
+    local row = {}
+    for i = 0, q - 1 do
+      local v00 = j * (q + 1) + i
+      local v10, v01 = v00 + 1, v00 + q + 1
+      local v11 = v01 + 1
+      row[#row + 1] = fmt("<%d,%d,%d>,<%d,%d,%d>,", v00, v10, v11, v00, v11, v01)
+    end
+    f:write(table.concat(row), "\n")
+  end
+  f:write(" }\n ", texture(scene.materials[mesh.material]), "\n}\n")
+end
+
+-- Writes scene to path (through path .. ".tmp", renamed at the end, so a
+-- file that exists is complete). grid is scenes.grid_vertex.
+function P.write(scene, path, grid)
+  local tmp = path .. ".tmp"
+  local f = assert(io.open(tmp, "w"))
+  write_header(f, scene)
+  local tex = {}
+  for name, m in pairs(scene.materials) do tex[name] = texture(m) end
+  for _, p in ipairs(scene.planes) do
+    local n = p.normal
+    local d = n[1] * p.point[1] + n[2] * p.point[2] + n[3] * p.point[3]
+    f:write(fmt("plane { %s, %s %s }\n", vec(n), num(d), tex[p.material]))
+  end
+  for _, b in ipairs(scene.boxes) do
+    f:write(fmt("box { %s, %s %s }\n", vec(b.min), vec(b.max), tex[b.material]))
+  end
+  local d = scene.sphere_decimals
+  local sfmt = "sphere { <%.10g, %.10g, %.10g>, %.10g %s }\n"
+  if d then
+    sfmt = fmt("sphere { <%%.%df, %%.%df, %%.%df>, %%.%df %%s }\n", d, d, d, d)
+  end
+  scene.spheres(function(x, y, z, r, m) f:write(fmt(sfmt, x, y, z, r, tex[m])) end)
+  if scene.mesh then write_mesh(f, scene, grid) end
+  assert(f:close())
+  assert(os.rename(tmp, path))
+end
+
+-- The command line (a list of words) rendering pov into png, run from the
+-- directory holding both (Debian's povray.conf allows writes to "." only).
+-- 16 spp: a regular 4x4 grid on every pixel (threshold 0, method 1, no jitter).
+function P.command(scene, pov, png, samples, threads)
+  local cmd = {"povray", "+I" .. pov, "+O" .. png, "+W" .. scene.width,
+               "+H" .. scene.height, "+FN", "-D", "+WT" .. threads, "File_Gamma=1.0",
+               "-P"}
+  if samples > 1 then
+    assert(samples == 16, "POV-Ray runs 1 or 16 samples a pixel")
+    for _, w in ipairs{"+A0.0", "+AM1", "+R4", "+J0"} do cmd[#cmd + 1] = w end
+  else
+    cmd[#cmd + 1] = "-A"
+  end
+  return cmd
+end
+
+-- POV-Ray's own trace time from its log (the "Trace Time" line), or nil.
+function P.render_seconds(log)
+  return tonumber(log:match("Trace Time:[^\n]-%(([%d.]+) seconds%)"))
+end
+
+return P
