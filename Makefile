@@ -2,6 +2,7 @@
 #   make          build everything under build/
 #   make demo     install missing Debian packages, build, render the showcase
 #   make test     install missing Debian packages, build, run every test
+#   make bench    lancer against POV-Ray and Tachyon (QUICK=1: a 2-minute subset)
 #   make SAN=1    add address and undefined-behaviour sanitizers
 
 CC      ?= cc
@@ -95,6 +96,14 @@ test:
 
 check: all $(C_TESTS)
 	@sh tests/run.sh $(BUILD)
+
+# The peers' files, images and results.md land in out/bench/ (tools/bench/).
+bench: all $(BUILD)/bin/lc-runstat
+	$(BIN) tools/bench/bench.lua $(if $(filter 1,$(QUICK)),quick)
+
+$(BUILD)/bin/lc-runstat: tools/runstat.c
+	@mkdir -p $(@D)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $<
 
 clean:
 	rm -rf $(BUILD) tests/out
