@@ -135,7 +135,9 @@ enum {
 };
 
 typedef enum {
-    LC_RAY_CAMERA, LC_RAY_SHADOW, LC_RAY_REFLECTION, LC_RAY_KINDS
+    LC_RAY_CAMERA, LC_RAY_SHADOW, LC_RAY_REFLECTION,
+    LC_RAY_CUT,          /* reflections not traced: their weight fell below the cutoff */
+    LC_RAY_KINDS
 } lc_ray_kind;
 
 const char *lc_ray_kind_name(lc_ray_kind k);           /* "camera", ... */
@@ -151,6 +153,9 @@ typedef struct {
     uint64_t seed;           /* every random number depends on it */
     int      threads;        /* 0 = one per core */
     int      cosine;         /* 0 drops the n.l factor (the seed's figure 7) */
+    double   cutoff;         /* a reflection whose weight (the product of kr, and of
+                             ** colours when absorb = all) is below this is not
+                             ** traced; 0 traces every bounce to max_depth */
     lc_progress_fn progress; /* may be NULL */
     void    *progress_ud;
 } lc_render_options;
@@ -170,6 +175,8 @@ typedef struct {
     size_t   bvh_nodes;          /* nodes of the hierarchy over bounded shapes */
     size_t   primitives;         /* shapes plus mesh triangles, as traced */
     size_t   degenerate;         /* zero-area triangles skipped */
+    uint64_t self_hits;          /* reflection rays that hit the surface they left:
+                                 ** 0 unless the geometry code has a bug */
 } lc_stats;
 
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,

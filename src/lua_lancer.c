@@ -923,6 +923,8 @@ static void push_stats(lua_State *L, const lc_stats *st)
     lua_setfield(L, -2, "primitives");
     lua_pushinteger(L, (lua_Integer)st->degenerate);
     lua_setfield(L, -2, "degenerate");
+    lua_pushinteger(L, (lua_Integer)st->self_hits);
+    lua_setfield(L, -2, "self_hits");
     lua_createtable(L, 0, LC_RAY_KINDS);
     for (int k = 0; k < LC_RAY_KINDS; k++) {
         lua_pushinteger(L, (lua_Integer)st->rays[k]);
@@ -940,7 +942,7 @@ static void push_stats(lua_State *L, const lc_stats *st)
 static int w_scene_render(lua_State *L)
 {
     static const char *const known[] = {"width", "height", "samples", "seed", "threads",
-                                        "cosine", "progress", NULL};
+                                        "cosine", "cutoff", "progress", NULL};
     ud_scene *u = check_scene(L, 1);
     if (lua_isnoneornil(L, 2)) {
         lua_settop(L, 1);
@@ -968,6 +970,9 @@ static int w_scene_render(lua_State *L)
     lua_pop(L, 1);
     o.threads = lf_integer(L, 2, "threads", 0, 0);
     o.cosine = lf_boolean(L, 2, "cosine", 1);
+    o.cutoff = lf_number(L, 2, "cutoff", 0, o.cutoff);
+    if (o.cutoff < 0 || o.cutoff > 1)
+        return lf_error(L, 2, "cutoff", "must be in [0, 1], got %g", o.cutoff);
     int show = lf_present(L, 2, "progress") ? lf_boolean(L, 2, "progress", 0) : -1;
     apply_overrides(L, &o);
 

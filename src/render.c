@@ -22,10 +22,12 @@ lc_render_options lc_render_options_default(void)
     o.height = 480;
     o.samples = 1;
     o.cosine = 1;
+    o.cutoff = 1.0 / 255;   /* POV-Ray's adc_bailout: below one step of 8-bit output */
     return o;
 }
 
-static const char *const ray_names[LC_RAY_KINDS] = {"camera", "shadow", "reflection"};
+static const char *const ray_names[LC_RAY_KINDS] = {"camera", "shadow", "reflection",
+                                                     "cut"};
 
 const char *lc_ray_kind_name(lc_ray_kind k)
 {
@@ -149,6 +151,8 @@ static lc_status check_options(const lc_render_options *o, lc_error *err)
     if (o->samples < 1 || o->samples > MAX_SAMPLES)
         return lc_fail(err, LC_EARG, "samples", "must be in [1, %d], got %d", MAX_SAMPLES,
                        o->samples);
+    if (!(o->cutoff >= 0 && o->cutoff <= 1))
+        return lc_fail(err, LC_EARG, "cutoff", "must be in [0, 1], got %g", o->cutoff);
     if (o->threads < 0 || o->threads > MAX_THREADS)
         return lc_fail(err, LC_EARG, "threads", "must be in [0, %d], got %d", MAX_THREADS,
                        o->threads);
@@ -202,6 +206,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         ws[i].t.needs = s->c.needs;
         ws[i].t.max_depth = s->settings.max_depth;
         ws[i].t.cosine = o->cosine;
+        ws[i].t.cutoff = o->cutoff;
         pthread_mutex_lock(&j.lock);
         j.running++;
         pthread_mutex_unlock(&j.lock);
@@ -245,9 +250,11 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
 
     lc_stats sum;
     memset(&sum, 0, sizeof sum);
-    for (int i = 0; i < nt; i++)
+    for (int i = 0; i < nt; i++) {
         for (int k = 0; k < LC_RAY_KINDS; k++)
             sum.rays[k] += ws[i].t.rays[k];
+        sum.self_hits += ws[i].t.self_hits;
+    }
     sum.compile_seconds = t1 - t0;
     sum.trace_seconds = t2 - t1;
     sum.seconds = t2 - t0;

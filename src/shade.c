@@ -106,14 +106,28 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n
 ** light times the product of the reflection weights before it, so any
 ** max_depth costs no stack. For absorb = 'all' (the seed) the weight
 ** includes the colour: colour * (... + kr * Cr) expands to that. */
+static float max3(lc_color c) { return fmaxf(c.r, fmaxf(c.g, c.b)); }
+
+/* A ray that left primitive `from` away from its inside (or off a flat one)
+** cannot meet it again: if it does, the spawn offset failed. */
+static int cannot_return(const lc_hit *h, lc_vec3 w)
+{
+    unsigned k = PRIM_KIND(h->shape);
+    return k == PRIM_QUAD || k == PRIM_PLANE || k == PRIM_TRIANGLE || v3_dot(w, h->n) > 0;
+}
+
 lc_color trace_ray(tracer *t, const lc_ray *r0, int depth)
 {
     lc_ray r = *r0;
     lc_color acc = {0, 0, 0}, w = {1, 1, 1};
+    uint32_t from = 0;
+    int watch = 0;             /* the last spawn cannot return to `from` */
     for (;;) {
         lc_hit h;
         if (!scene_closest(t->scene, &r, HUGE_VAL, &h))
             return c_add(acc, c_mul(w, t->scene->settings.background));
+        if (watch && h.shape == from)
+            t->self_hits++;
         const lc_material *m = &t->scene->materials[h.material];
         lc_vec3 n = v3_dot(h.n, r.d) > 0 ? v3_neg(h.ns) : h.ns;  /* face the viewer */
         lc_vec3 v = v3_neg(r.d);
@@ -139,10 +153,18 @@ lc_color trace_ray(tracer *t, const lc_ray *r0, int depth)
         acc = c_add(acc, c_mul(w, c_add(local, m->emission)));
         if (!((t->needs & LC_NEED_REFLECT) && m->kr > 0 && depth < t->max_depth))
             return acc;
+        /* Adaptive depth (POV-Ray's adc_bailout): a bounce that can add at
+        ** most cutoff times what it sees is not traced. */
+        if (max3(next) < t->cutoff) {
+            t->rays[LC_RAY_CUT]++;
+            return acc;
+        }
         lc_vec3 rd = v3_madd(r.d, n, -2 * v3_dot(r.d, n));       /* kr Cr */
         r.o = spawn_origin(&h, rd);
         r.d = v3_norm(rd);
         t->rays[LC_RAY_REFLECTION]++;
+        from = h.shape;
+        watch = cannot_return(&h, rd);
         w = next;
         depth++;
     }

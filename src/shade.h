@@ -9,7 +9,9 @@ typedef struct {
     unsigned needs;            /* copy of c->needs, minus what options turn off */
     int      max_depth;
     int      cosine;
+    double   cutoff;
     uint64_t rays[LC_RAY_KINDS];   /* this thread's counts */
+    uint64_t self_hits;
 } tracer;
 
 lc_color trace_ray(tracer *t, const lc_ray *r, int depth);

@@ -290,3 +290,23 @@ T.test("saved PNG: gAMA 1.0 when linear, an sRGB chunk by default", function()
   os.remove(dir .. ".png")
   assert(bytes:find("sRGB", 1, true), "sRGB files carry the sRGB chunk")
 end)
+
+T.test("cutoff: bounces weighing under 1/255 are not traced, and counted", function()
+  local e, kr = 0.1, 0.5
+  local m = lancer.material{kd = 0, kr = kr, emission = e}
+  local scene = lancer.scene{max_depth = 20, camera = lancer.camera{
+    from = {0, 0, -0.5}, at = {0, 0, 1}, fov = 10}}
+  scene:add(lancer.quad{corner = {-10, -10, 1}, u = {20, 0, 0}, v = {0, 20, 0}, material = m})
+  scene:add(lancer.quad{corner = {-10, -10, -1}, u = {20, 0, 0}, v = {0, 20, 0}, material = m})
+  -- Weight after k bounces is 0.5^k: 0.5^7 >= 1/255 > 0.5^8, so 7 are traced.
+  local img, st = scene:render{width = 4, height = 3}
+  T.eq(st.rays.reflection, 4 * 3 * 7, "reflections traced")
+  T.eq(st.rays.cut, 4 * 3, "one cut per pixel")
+  local full, sf = scene:render{width = 4, height = 3, cutoff = 0}
+  T.eq(sf.rays.reflection, 4 * 3 * 20, "cutoff = 0 traces to max_depth")
+  T.eq(sf.rays.cut, 0, "nothing cut")
+  -- What is lost is the series' tail: e * sum_{k >= 8} 0.5^k = e * 0.5^7.
+  T.near(full:pixel(2, 2) - img:pixel(2, 2), e * (0.5 ^ 8 - 0.5 ^ 21) / (1 - 0.5), 1e-6,
+         "energy lost")
+  T.eq(st.self_hits, 0, "no ray re-hit the mirror it left")
+end)
