@@ -102,3 +102,11 @@ lc_status lc_image_compare(const lc_image *a, const lc_image *b, double tol,
     lc_ok(err);
     return LC_OK;
 }
+
+size_t lc_image_nonfinite(const lc_image *img)
+{
+    size_t n = 3 * (size_t)img->width * img->height, bad = 0;
+    for (size_t i = 0; i < n; i++)
+        bad += !isfinite(img->px[i]);
+    return bad;
+}

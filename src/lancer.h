@@ -112,12 +112,17 @@ lc_scene *lc_scene_new(lc_error *err);
 void      lc_scene_free(lc_scene *s);                   /* NULL is a no-op */
 lc_status lc_scene_configure(lc_scene *s, const lc_settings *st, lc_error *err);
 lc_settings lc_scene_settings(const lc_scene *s);
+int       lc_scene_camera(const lc_scene *s, lc_camera *out);  /* 0: none set */
 lc_status lc_scene_set_camera(lc_scene *s, const lc_camera *c, lc_error *err);
 int       lc_scene_add_material(lc_scene *s, const lc_material *m, lc_error *err);
 int       lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material,
                              lc_error *err);            /* id >= 0, or -1 */
 int       lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err);
 int       lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err);
+/* A copy scaled by `scale` about the origin and moved by `offset`, point-light
+** intensities times scale^2: an exact renderer draws the same picture. */
+lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 offset,
+                               lc_error *err);
 size_t    lc_scene_shape_count(const lc_scene *s);
 size_t    lc_scene_light_count(const lc_scene *s);
 
@@ -206,6 +211,7 @@ typedef struct {
     int    worst_x, worst_y;
 } lc_image_diff;
 
+size_t    lc_image_nonfinite(const lc_image *img);  /* NaN and infinite channels */
 lc_status lc_image_compare(const lc_image *a, const lc_image *b, double tol,
                            lc_image_diff *d, lc_error *err);   /* same size */
 

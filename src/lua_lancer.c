@@ -868,6 +868,46 @@ static int w_scene_add(lua_State *L)
     return 1;
 }
 
+/* scene:transformed(scale [, offset]): the copy lc_scene_transformed makes,
+** sharing this scene's material table (same indices) with a moved camera. */
+static int w_scene_transformed(lua_State *L)
+{
+    ud_scene *u = check_scene(L, 1);
+    double scale = luaL_checknumber(L, 2);
+    lc_vec3 off = {0, 0, 0};
+    char why[160];
+    if (!lua_isnoneornil(L, 3) && !lf_to_vec3(L, 3, &off, why, sizeof why))
+        return luaL_argerror(L, 3, why);
+    ud_scene *c = lua_newuserdatauv(L, sizeof *c, 1);      /* before the copy */
+    c->s = NULL;
+    luaL_setmetatable(L, SCENE);
+    int ci = lua_gettop(L);
+    lua_createtable(L, 3, 0);
+    lua_getiuservalue(L, 1, 1);
+    lua_rawgeti(L, -1, SC_MATERIALS);
+    lua_rawseti(L, -3, SC_MATERIALS);
+    lua_rawgeti(L, -1, SC_DEFAULT);
+    lua_rawseti(L, -3, SC_DEFAULT);
+    lua_pop(L, 1);
+    lua_setiuservalue(L, ci, 1);
+    lc_error err;
+    c->s = lc_scene_transformed(u->s, scale, off, &err);
+    if (!c->s)
+        return lf_raise(L, 2, &err);
+    lc_camera moved;
+    if (lc_scene_camera(c->s, &moved)) {
+        ud_camera *cam = lua_newuserdatauv(L, sizeof *cam, 0);
+        cam->c = moved;
+        luaL_setmetatable(L, CAMERA);
+        lua_getiuservalue(L, ci, 1);
+        lua_insert(L, -2);
+        lua_rawseti(L, -2, SC_CAMERA);
+        lua_pop(L, 1);
+    }
+    lua_settop(L, ci);
+    return 1;
+}
+
 static int w_scene_count(lua_State *L)
 {
     ud_scene *u = check_scene(L, 1);
@@ -939,11 +979,37 @@ static void push_stats(lua_State *L, const lc_stats *st)
     lua_setfield(L, -2, "effects");
 }
 
+/* lancer --check sets overrides.check: renders then go to lancer.check. */
+static int check_mode(lua_State *L)
+{
+    int on = 0;
+    lua_getfield(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+    if (lua_getfield(L, -1, "lancer") == LUA_TTABLE &&
+        lua_getfield(L, -1, "overrides") == LUA_TTABLE) {
+        lua_getfield(L, -1, "check");
+        on = lua_toboolean(L, -1);
+        lua_pop(L, 1);
+    }
+    lua_settop(L, 2);
+    return on;
+}
+
 static int w_scene_render(lua_State *L)
 {
     static const char *const known[] = {"width", "height", "samples", "seed", "threads",
                                         "cosine", "cutoff", "progress", NULL};
     ud_scene *u = check_scene(L, 1);
+    lua_settop(L, 2);
+    if (check_mode(L)) {
+        lua_getglobal(L, "require");
+        lua_pushliteral(L, "lancer.check");
+        lua_call(L, 1, 1);
+        lua_getfield(L, -1, "render");
+        lua_pushvalue(L, 1);
+        lua_pushvalue(L, 2);
+        lua_call(L, 2, 2);
+        return 2;
+    }
     if (lua_isnoneornil(L, 2)) {
         lua_settop(L, 1);
         lua_newtable(L);
@@ -1146,6 +1212,12 @@ static int w_image_diff(lua_State *L)
     return 1;
 }
 
+static int w_image_nonfinite(lua_State *L)
+{
+    lua_pushinteger(L, (lua_Integer)lc_image_nonfinite(check_image(L, 1)));
+    return 1;
+}
+
 static int w_image_pixel(lua_State *L)
 {
     lc_image *img = check_image(L, 1);
@@ -1217,12 +1289,14 @@ int luaopen_lancer_core(lua_State *L)
         {"__index", w_scene_index}, {"__newindex", w_scene_newindex}, {NULL, NULL}};
     static const luaL_Reg scene_methods[] = {
         {"add", w_scene_add}, {"render", w_scene_render}, {"count", w_scene_count},
+        {"transformed", w_scene_transformed},
         {NULL, NULL}};
     static const luaL_Reg image_meta[] = {
         {"__gc", w_image_free}, {"__close", w_image_free}, {"__tostring", w_image_tostring},
         {"__index", w_image_index}, {NULL, NULL}};
     static const luaL_Reg image_methods[] = {
         {"save", w_image_save}, {"pixel", w_image_pixel}, {"diff", w_image_diff},
+        {"nonfinite", w_image_nonfinite},
         {NULL, NULL}};
     static const luaL_Reg mesh_meta[] = {
         {"__gc", w_mesh_free}, {"__close", w_mesh_free}, {"__tostring", w_mesh_tostring},

@@ -38,6 +38,8 @@ struct cmdline {
     const char **chunks;    /* -e strings, in order */
     int nchunks;
     lua_Integer width, height, samples;  /* --width...; 0: not given */
+    int check;              /* --check: is the scene numerically stable? */
+    int unstable;           /* --check found it was not: exit 3 */
 };
 
 enum { PARSE_RUN, PARSE_DONE, PARSE_USAGE };
@@ -58,6 +60,7 @@ static void print_usage(void)
 "  lancer - < scene.lua          read the script from standard input\n"
 "  lancer -e 'print(require(\"lancer\").version)'\n"
 "  lancer -i scene.lua           run scene.lua, then the interactive prompt\n"
+"  lancer --check scene.lua      is the scene numerically stable?\n"
 "  lancer                        the interactive prompt\n"
 "\n"
 "Options (before the script; arguments after it go to the script):\n"
@@ -68,6 +71,9 @@ static void print_usage(void)
 "  --width W     render at width W, whatever the script asks (positive integer)\n"
 "  --height H    render at height H, likewise\n"
 "  --samples N   take N samples per pixel, likewise\n"
+"  --check       render each image small at scales 1e-3, 1, 1e3 and moved 1e6\n"
+"                away; report differing pixels, NaN and self-hits (exit 3 if\n"
+"                the scene is numerically unstable)\n"
 "  --help        print this help and exit\n"
 "  --version     print the version and exit\n"
 "\n"
@@ -76,7 +82,7 @@ static void print_usage(void)
 "The prompt prints the value of an expression; its history is kept in\n"
 "~/" HISTORY_FILE ". Ctrl-C interrupts running code, Ctrl-D quits.\n"
 "\n"
-"Exit status: 0 success, 1 script error, 2 usage error.\n", stdout);
+"Exit status: 0 success, 1 script error, 2 usage error, 3 unstable (--check).\n", stdout);
 }
 
 static int usage_error(const char *fmt, const char *what)
@@ -165,6 +171,8 @@ static int parse_args(struct cmdline *cl)
                 cl->chunks[cl->nchunks++] = argv[++i];
             else
                 return usage_error("option '%s' needs an argument", "-e");
+        } else if (strcmp(a, "--check") == 0) {
+            cl->check = 1;
         } else if (is_opt(a, "--width")) {
             st = parse_size(cl, &i, "--width", &cl->width);
         } else if (is_opt(a, "--height")) {
@@ -370,13 +378,28 @@ static int store_overrides(lua_State *L)
         lua_pushinteger(L, cl->samples);
         lua_setfield(L, -2, "samples");
     }
+    if (cl->check) {
+        lua_pushboolean(L, 1);
+        lua_setfield(L, -2, "check");
+    }
     return 0;
+}
+
+/* After a --check run: lancer.check's verdict, as a boolean. */
+static int check_verdict(lua_State *L)
+{
+    lua_getglobal(L, "require");
+    lua_pushliteral(L, "lancer.check");
+    lua_call(L, 1, 1);
+    lua_getfield(L, -1, "finish");
+    lua_call(L, 0, 1);
+    return 1;
 }
 
 /* Loads lancer only when asked to, so -e 'print(1)' needs no renderer. */
 static int set_overrides(lua_State *L, const struct cmdline *cl)
 {
-    if (!cl->width && !cl->height && !cl->samples)
+    if (!cl->width && !cl->height && !cl->samples && !cl->check)
         return LUA_OK;
     lua_pushcfunction(L, store_overrides);
     lua_pushlightuserdata(L, (void *)cl);
@@ -594,6 +617,16 @@ static int pmain(lua_State *L)
     }
     if (cl->script > 0 && handle_script(L, cl) != LUA_OK)
         return 0;
+    if (cl->check) {
+        lua_pushcfunction(L, check_verdict);
+        if (report(L, docall(L, 0, 1)) != LUA_OK)
+            return 0;
+        if (!lua_toboolean(L, -1)) {
+            cl->unstable = 1;
+            return 0;
+        }
+        lua_pop(L, 1);
+    }
     if (cl->interactive) {
         do_repl(L);
     } else if (cl->script == 0 && cl->nchunks == 0) {
@@ -645,5 +678,7 @@ int main(int argc, char **argv)
     report(L, status);
     lua_close(L);
     free(cl.chunks);
+    if (cl.unstable)
+        return 3;
     return ok && status == LUA_OK ? 0 : 1;
 }

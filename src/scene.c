@@ -71,6 +71,13 @@ lc_status lc_scene_configure(lc_scene *s, const lc_settings *st, lc_error *err)
 
 lc_settings lc_scene_settings(const lc_scene *s) { return s->settings; }
 
+int lc_scene_camera(const lc_scene *s, lc_camera *out)
+{
+    if (s->has_camera)
+        *out = s->camera;
+    return s->has_camera;
+}
+
 lc_status lc_scene_set_camera(lc_scene *s, const lc_camera *c, lc_error *err)
 {
     if (lc_camera_check(c, err))
@@ -212,3 +219,91 @@ int lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err)
 
 size_t lc_scene_shape_count(const lc_scene *s) { return s->nshapes; }
 size_t lc_scene_light_count(const lc_scene *s) { return s->nlights; }
+
+static lc_vec3 move(lc_vec3 p, double s, lc_vec3 t)
+{
+    return v3(p.x * s + t.x, p.y * s + t.y, p.z * s + t.z);
+}
+
+/* A copy of the scene scaled by s about the origin, then moved by t: every
+** position, size and the camera; point lights falling off as 1/d^2 get
+** intensity * s^2, so the picture should not change at all. */
+lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_error *err)
+{
+    if (!(scale > 0) || !isfinite(scale))
+        return lc_fail(err, LC_EARG, "scale", "must be finite and > 0, got %g", scale),
+               NULL;
+    if (!isfinite(t.x) || !isfinite(t.y) || !isfinite(t.z))
+        return lc_fail(err, LC_EARG, "offset", "must be finite"), NULL;
+    lc_scene *c = lc_scene_new(err);
+    if (!c)
+        return NULL;
+    c->settings = s->settings;
+    if (s->has_camera) {
+        lc_camera cam = s->camera;
+        cam.from = move(cam.from, scale, t);
+        cam.at = move(cam.at, scale, t);
+        if (lc_scene_set_camera(c, &cam, err))
+            goto fail;
+    }
+    for (size_t i = 0; i < s->nmaterials; i++)
+        if (lc_scene_add_material(c, &s->materials[i], err) < 0)
+            goto fail;
+    for (size_t i = 0; i < s->nspheres; i++) {
+        lc_shape sh = {LC_SPHERE, move(s->spheres[i].g.c, scale, t), {0, 0, 0}, {0, 0, 0},
+                       {0, 0, 0}, s->spheres[i].g.r * scale};
+        if (lc_scene_add_shape(c, &sh, s->spheres[i].material, err) < 0)
+            goto fail;
+    }
+    for (size_t i = 0; i < s->nquads; i++) {
+        const quad_geom *g = &s->quads[i].g;
+        lc_shape sh = {LC_QUAD, move(g->q, scale, t), v3_mul(g->u, scale), v3_mul(g->v, scale),
+                       {0, 0, 0}, 0};
+        if (lc_scene_add_shape(c, &sh, s->quads[i].material, err) < 0)
+            goto fail;
+    }
+    for (size_t i = 0; i < s->nboxes; i++) {
+        const box_geom *g = &s->boxes[i].g;
+        lc_shape sh = {LC_BOX, move(g->q, scale, t), v3_mul(g->e[0], scale),
+                       v3_mul(g->e[1], scale), v3_mul(g->e[2], scale), 0};
+        if (lc_scene_add_shape(c, &sh, s->boxes[i].material, err) < 0)
+            goto fail;
+    }
+    for (size_t i = 0; i < s->nplanes; i++) {
+        const plane_geom *g = &s->planes[i].g;
+        lc_shape sh = {LC_PLANE, move(g->p, scale, t), g->n, {0, 0, 0}, {0, 0, 0}, 0};
+        if (lc_scene_add_shape(c, &sh, s->planes[i].material, err) < 0)
+            goto fail;
+    }
+    for (size_t i = 0; i < s->nmeshes; i++) {
+        const lc_mesh *src = s->meshes[i].mesh;
+        lc_mesh *m = lc_mesh_new(err);
+        lc_status st = m ? LC_OK : LC_ENOMEM;
+        for (size_t k = 0; st == LC_OK && k < src->nv; k++) {
+            lc_vec3 p = move(v3(src->v[3 * k], src->v[3 * k + 1], src->v[3 * k + 2]), scale, t);
+            double xyz[3] = {p.x, p.y, p.z};
+            st = lc_mesh_add_vertices(m, xyz, 1, err);
+        }
+        if (st == LC_OK && src->nn)
+            st = lc_mesh_add_normals(m, src->n, src->nn, err);
+        if (st == LC_OK)
+            st = lc_mesh_add_faces(m, src->f, src->nf, err);
+        if (st == LC_OK && lc_scene_add_mesh(c, m, s->meshes[i].material, err) < 0)
+            st = LC_EARG;
+        lc_mesh_free(m);
+        if (st != LC_OK)
+            goto fail;
+    }
+    for (size_t i = 0; i < s->nlights; i++) {
+        lc_point_light l = s->lights[i];
+        l.position = move(l.position, scale, t);
+        if (l.falloff == LC_FALLOFF_INVERSE_SQUARE)
+            l.intensity *= scale * scale;
+        if (lc_scene_add_light(c, &l, err) < 0)
+            goto fail;
+    }
+    return c;
+fail:
+    lc_scene_free(c);
+    return NULL;
+}
