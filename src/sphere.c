@@ -12,6 +12,24 @@ void sphere_prepare(const lc_shape *s, sphere_geom *g)
 ** offset from the centre, the discriminant is (r - |v|)(r + |v|), which
 ** never subtracts nearly equal large numbers (Haines et al., RTG ch. 7).
 ** The roots are taken as c/q and q (Press et al.), so neither cancels. */
+#ifdef LC_NAIVE
+/* The textbook quadratic, built only by `make NAIVE=1` so the benchmark can
+** show what the robust version costs. It cancels for small or far spheres. */
+double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
+{
+    lc_vec3 f = v3_sub(r->o, s->c);
+    double b = 2 * v3_dot(f, r->d), c = v3_dot(f, f) - s->r * s->r;
+    double disc = b * b - 4 * c;
+    if (!(disc >= 0))
+        return 0;
+    double t0 = (-b - sqrt(disc)) / 2, t1 = (-b + sqrt(disc)) / 2;
+    if (t0 > tmin && t0 < tmax)
+        return t0;
+    if (t1 > tmin && t1 < tmax)
+        return t1;
+    return 0;
+}
+#else
 double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
 {
     lc_vec3 f = v3_sub(r->o, s->c);
@@ -36,6 +54,7 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
         return t1;
     return 0;
 }
+#endif
 
 int sphere_hit(const sphere_geom *s, const lc_ray *r, double tmin, double tmax, lc_hit *h)
 {

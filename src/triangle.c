@@ -14,6 +14,43 @@ void tri_shear_init(lc_vec3 d, tri_shear *s)
     s->sz = 1.0 / dz;
 }
 
+#ifdef LC_NAIVE
+/* Moller-Trumbore with a determinant epsilon, built only by `make NAIVE=1`
+** for the benchmark: rays aimed at shared edges slip through it. */
+int tri_hit(const double *v0, const double *v1, const double *v2, const lc_ray *r,
+            const tri_shear *s, double tmin, double tmax, lc_hit *h, double bary[3])
+{
+    (void)s;
+    lc_vec3 p0 = v3(v0[0], v0[1], v0[2]), p1 = v3(v1[0], v1[1], v1[2]);
+    lc_vec3 p2 = v3(v2[0], v2[1], v2[2]);
+    lc_vec3 e1 = v3_sub(p1, p0), e2 = v3_sub(p2, p0);
+    lc_vec3 pv = v3_cross(r->d, e2);
+    double det = v3_dot(e1, pv);
+    if (fabs(det) < 1e-12)
+        return 0;
+    double inv = 1 / det;
+    lc_vec3 tv = v3_sub(r->o, p0);
+    double u = v3_dot(tv, pv) * inv;
+    if (u < 0 || u > 1)
+        return 0;
+    lc_vec3 qv = v3_cross(tv, e1);
+    double v = v3_dot(r->d, qv) * inv;
+    if (v < 0 || u + v > 1)
+        return 0;
+    double t = v3_dot(e2, qv) * inv;
+    if (!(t > tmin && t < tmax))
+        return 0;
+    lc_vec3 n = v3_cross(e1, e2);
+    h->t = t;
+    h->p = v3_madd(r->o, r->d, t);
+    h->perr = v3(0, 0, 0);
+    h->n = v3_norm(n);
+    bary[0] = 1 - u - v;
+    bary[1] = u;
+    bary[2] = v;
+    return 1;
+}
+#else
 /* An edge function recomputed in extended precision when double rounding
 ** left it exactly zero, as the paper does for float: its sign then decides. */
 static double edge(double ax, double ay, double bx, double by)
@@ -90,3 +127,4 @@ int tri_hit(const double *v0, const double *v1, const double *v2, const lc_ray *
     bary[2] = b2;
     return 1;
 }
+#endif
