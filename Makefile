@@ -4,8 +4,15 @@
 #   make test     install missing Debian packages, build, run every test
 #   make bench    lancer against POV-Ray and Tachyon (QUICK=1: a 2-minute subset)
 #   make SAN=1    add address and undefined-behaviour sanitizers
+#   make NAIVE=1  build/naive: naive intersections and epsilons (bench only)
 
 CC      ?= cc
+ifeq ($(NAIVE),1)
+# The textbook intersections and a fixed spawn epsilon, for pricing the robust
+# code in make bench; never for rendering.
+BUILD   ?= build/naive
+CPPFLAGS += -DLC_NAIVE
+endif
 BUILD   ?= build
 PKGS    := lua5.4 libpng
 WARN    := -Wall -Wextra -Wshadow -Wundef -Wwrite-strings -Wstrict-prototypes \
