@@ -1,5 +1,6 @@
 /* image.c: linear floating-point RGB images. */
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include "error.h"
 #include "image.h"
@@ -58,6 +59,45 @@ void lc_image_set(lc_image *img, int x, int y, lc_color c)
     p[2] = c.b;
 }
 
+/* The sRGB transfer curve, from linear [0, 1]. */
+static double srgb(double v)
+{
+    return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
+}
+
+static double srgb_inverse(double e)
+{
+    return e <= 0.04045 ? e / 12.92 : pow((e + 0.055) / 1.055, 2.4);
+}
+
+/* threshold[k]: the linear value from which sRGB output rounds to k + 1.
+** Counting the thresholds below v (from a table indexed by v * 4096, a step
+** or two) replaces one pow() per channel, which dominated saving an image;
+** tests/c/test_image.c checks it against the direct formula. */
+static double threshold[256];       /* threshold[255] = 2: past every input */
+static uint8_t start[4097];         /* the code at v = i / 4096: where to look */
+static pthread_once_t threshold_once = PTHREAD_ONCE_INIT;
+
+static void threshold_init(void)
+{
+    for (int k = 0; k < 255; k++) {
+        double v = srgb_inverse((k + 0.5) / 255);
+        /* Settle on the exact boundary of the rounding below. */
+        while (v > 0 && (int)(srgb(v) * 255 + 0.5) > k)
+            v = nextafter(v, 0);
+        while ((int)(srgb(v) * 255 + 0.5) <= k)
+            v = nextafter(v, 1);
+        threshold[k] = v;
+    }
+    threshold[255] = 2;
+    int k = 0;
+    for (int i = 0; i <= 4096; i++) {
+        while (k < 255 && threshold[k] <= i / 4096.0)
+            k++;
+        start[i] = (uint8_t)k;
+    }
+}
+
 /* Clamped to [0, 1] (NaN reads as 0), encoded, rounded to nearest. */
 uint8_t lc_encode_channel(float linear, lc_encoding enc)
 {
@@ -66,9 +106,13 @@ uint8_t lc_encode_channel(float linear, lc_encoding enc)
         return 0;
     if (v >= 1)
         return 255;
-    if (enc == LC_ENCODE_SRGB)
-        v = v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
-    return (uint8_t)(v * 255 + 0.5);
+    if (enc == LC_ENCODE_LINEAR)
+        return (uint8_t)(v * 255 + 0.5);
+    pthread_once(&threshold_once, threshold_init);
+    int k = start[(int)(v * 4096)];  /* the answer is the count of thresholds <= v */
+    while (threshold[k] <= v)
+        k++;
+    return (uint8_t)k;
 }
 
 lc_status lc_image_compare(const lc_image *a, const lc_image *b, double tol,

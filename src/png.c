@@ -46,6 +46,10 @@ static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const
                        fail.msg[0] ? fail.msg : "out of memory");
     }
     png_init_io(png, fp);
+    /* zlib level 3 with the Sub filter: about a third of the default's time
+    ** for files about a third larger (measured on B1, 1280x720). */
+    png_set_compression_level(png, 3);
+    png_set_filter(png, 0, PNG_FILTER_SUB);
     png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height, 8,
                  PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);

@@ -81,6 +81,22 @@ static void encode_srgb_boundary_is_continuous(void **state)
 
 /* 10^5 equal steps over [0, 1]: never decreasing, never skipping a byte, and
 ** every byte value from 0 to 255 is reached. */
+/* The encoder counts precomputed thresholds instead of calling pow(): it
+** must agree with the textbook formula everywhere, boundaries included. */
+static void encode_srgb_matches_direct_formula(void **state)
+{
+    (void)state;
+    int bad = 0;
+    for (int i = 0; i <= 2000000; i++) {
+        double v = (float)(i / 2000000.0);      /* pixels are floats */
+        double e = v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
+        unsigned want = v >= 1 ? 255 : (unsigned)(e * 255 + 0.5);
+        if (lc_encode_channel((float)v, LC_ENCODE_SRGB) != want)
+            bad++;
+    }
+    assert_int_equal(bad, 0);
+}
+
 static void encode_is_monotonic(void **state)
 {
     (void)state;
@@ -522,6 +538,7 @@ int main(void)
         cmocka_unit_test(encode_linear_clamps_and_rounds),
         cmocka_unit_test(encode_srgb_values),
         cmocka_unit_test(encode_srgb_boundary_is_continuous),
+        cmocka_unit_test(encode_srgb_matches_direct_formula),
         cmocka_unit_test(encode_is_monotonic),
         cmocka_unit_test(image_new_rejects_bad_sizes),
         cmocka_unit_test(image_get_set_round_trip),
