@@ -31,24 +31,23 @@ static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, lc_ve
                          lc_vec3 v, light_sum *sum)
 {
     const lc_scene *s = t->scene;
-    double tooclose = 4 * v3_len(h->perr);
+    double tooclose2 = 16 * v3_dot(h->perr, h->perr);
     for (size_t i = 0; i < s->nlights; i++) {
         const lc_point_light *L = &s->lights[i];
         lc_vec3 tol = v3_sub(L->position, h->p);
-        double d = v3_len(tol);
-        if (!(d > tooclose))        /* light on the point itself: no direction */
+        double d2 = v3_dot(tol, tol);
+        if (!(d2 > tooclose2))      /* light on the point itself: no direction */
             continue;
+        double d = sqrt(d2);
         lc_vec3 l = v3_mul(tol, 1.0 / d);
         double cosl = v3_dot(n, l);
         if (!(cosl > 0))            /* behind the surface: no shadow ray at all */
             continue;
-        lc_ray sr;
-        sr.o = spawn_origin(h, l);
-        lc_vec3 so = v3_sub(L->position, sr.o);
-        double sd = v3_len(so);
-        sr.d = v3_mul(so, 1.0 / sd);
+        /* From the offset origin along l: the offset is a few ulps of |p|,
+        ** far inside SHADOW_SHORTEN, so the ray still stops short of L. */
+        lc_ray sr = {spawn_origin(h, l), l};
         t->rays[LC_RAY_SHADOW]++;
-        if (scene_occluded(t->scene, &sr, sd * (1 - SHADOW_SHORTEN)))
+        if (scene_occluded(t->scene, &sr, d * (1 - SHADOW_SHORTEN)))
             continue;
         double k = L->intensity;
         if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)

@@ -9,9 +9,10 @@ void sphere_prepare(const lc_shape *s, sphere_geom *g)
 
 /* The naive b^2 - 4ac cancels when the sphere is small or far: b^2 and 4ac
 ** are both ~|f|^4 and differ by ~r^2. With v the ray's closest-approach
-** offset from the centre, the discriminant is (r - |v|)(r + |v|), which
-** never subtracts nearly equal large numbers (Haines et al., RTG ch. 7).
-** The roots are taken as c/q and q (Press et al.), so neither cancels. */
+** offset from the centre, the discriminant is r^2 - |v|^2, whose terms are
+** of the sphere's own size (Haines et al., RTG ch. 7; (r - |v|)(r + |v|)
+** is no more accurate and costs a square root). The roots are taken as c/q
+** and q (Press et al.), so neither cancels. */
 #ifdef LC_NAIVE
 /* The textbook quadratic, built only by `make NAIVE=1` so the benchmark can
 ** show what the robust version costs. It cancels for small or far spheres. */
@@ -35,15 +36,13 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
     lc_vec3 f = v3_sub(r->o, s->c);
     double b = v3_dot(f, r->d);
     lc_vec3 v = v3_madd(f, r->d, -b);
-    double lv = v3_len(v);
-    double disc = (s->r - lv) * (s->r + lv);
+    double disc = s->r * s->r - v3_dot(v, v);
     if (!(disc >= 0))
         return 0;
     double q = -b - copysign(sqrt(disc), b);
     if (q == 0)            /* tangent at the origin itself: both roots are 0 */
         return 0;
-    double lf = v3_len(f);
-    double c = (lf - s->r) * (lf + s->r);
+    double c = v3_dot(f, f) - s->r * s->r;
     double t0 = c / q, t1 = q;
     if (t0 > t1) {
         double tt = t0; t0 = t1; t1 = tt;
