@@ -91,8 +91,14 @@ double box_t(const box_geom *g, const lc_ray *r, const double *inv, double tmin,
 
 int box_hit(const box_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
 {
+    return box_hit_inv(g, r, NULL, tmin, tmax, h);
+}
+
+int box_hit_inv(const box_geom *g, const lc_ray *r, const double *inv, double tmin,
+                double tmax, lc_hit *h)
+{
     int axis, at_hi;
-    double t = slabs(g, r, NULL, tmin, tmax, &axis, &at_hi);
+    double t = slabs(g, r, inv, tmin, tmax, &axis, &at_hi);
     if (!(t > 0))
         return 0;
     lc_vec3 p = v3_madd(r->o, r->d, t);

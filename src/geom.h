@@ -71,7 +71,12 @@ void tri_shear_init(lc_vec3 d, tri_shear *s);
 /* The same tests reduced to the distance (0 for a miss): enough to find the
 ** nearest hit; only the winner is then finished by the *_hit function. */
 double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax);
-/* inv: the ray's reciprocal direction (1/d per axis), or NULL to compute it. */
+/* inv: the ray's reciprocal direction (1/d per axis), or NULL to compute it;
+** the *_inv forms finish a hit found with the same reciprocals. */
+int box_hit_inv(const box_geom *b, const lc_ray *r, const double *inv, double tmin,
+                double tmax, lc_hit *h);
+int plane_hit_inv(const plane_geom *p, const lc_ray *r, const double *inv, double tmin,
+                  double tmax, lc_hit *h);
 double box_t(const box_geom *b, const lc_ray *r, const double *inv, double tmin,
              double tmax);
 static inline double plane_t(const plane_geom *g, const lc_ray *r, const double *inv,

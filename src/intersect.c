@@ -5,7 +5,7 @@
 #define STACK 128   /* BVH depth is at most 64 plus halvings of oversized leaves */
 
 typedef struct {
-    lc_ray    r;
+    const lc_ray *r;      /* a pointer: copying the ray stalled on store forwarding */
     double    o[3], inv[3];
     int       neg[3];
     tri_shear sh;
@@ -13,26 +13,43 @@ typedef struct {
 
 static void query_init(query *q, const lc_ray *r, int triangles)
 {
-    q->r = *r;
+    q->r = r;
     double d[3] = {r->d.x, r->d.y, r->d.z};
     q->o[0] = r->o.x;
     q->o[1] = r->o.y;
     q->o[2] = r->o.z;
-    for (int k = 0; k < 3; k++) {
-        q->inv[k] = 1.0 / d[k];         /* +-inf for 0: wanted */
-        q->neg[k] = q->inv[k] < 0;      /* from the reciprocal, so -0 counts */
+    /* One division for three reciprocals (each then carries up to five
+    ** roundings, which RECIPROCAL_GAMMA covers): division latency was a
+    ** tenth of the time of small scenes. A zero, subnormal or huge product
+    ** falls back to three exact divisions: 1 / +-0 = +-inf is wanted. */
+    double p = d[0] * d[1] * d[2];
+    if (fabs(p) >= DBL_MIN && isfinite(p)) {
+        double r1 = 1.0 / p;
+        q->inv[0] = (d[1] * d[2]) * r1;
+        q->inv[1] = (d[0] * d[2]) * r1;
+        q->inv[2] = (d[0] * d[1]) * r1;
+    } else {
+        for (int k = 0; k < 3; k++)
+            q->inv[k] = 1.0 / d[k];
     }
+    for (int k = 0; k < 3; k++)
+        q->neg[k] = q->inv[k] < 0;      /* from the reciprocal, so -0 counts */
     if (triangles)                      /* the shear only triangles use */
         tri_shear_init(r->d, &q->sh);
 }
 
+/* Roundings in a slab distance (bound - o) * inv: one for the subtraction,
+** one for the product, five for the reciprocal made from one division. */
+#define RECIPROCAL_GAMMA 8
+
 /* Slab test of a node: returns its entry distance, or +inf when the ray
-** misses it before tmax. The far distance is enlarged by 1 + 2 gamma(3) so
-** the three roundings of (bound - o) * inv can never turn a hit into a miss
-** (Ize 2013, pbrt-v4); NaN from 0 * inf is ignored by the comparisons. */
+** misses it before tmax. The far distance is enlarged by 1 + 2 gamma(n), n
+** the roundings above, so they can never turn a hit into a miss (Ize 2013,
+** pbrt-v4); NaN from 0 * inf is ignored by the comparisons. */
 static inline double node_enter(const bvh_node *nd, const query *q, double tmax)
 {
-    static const double widen = 1 + 2 * (3 * (DBL_EPSILON / 2)) / (1 - 3 * (DBL_EPSILON / 2));
+    static const double widen = 1 + 2 * (RECIPROCAL_GAMMA * (DBL_EPSILON / 2)) /
+                                    (1 - RECIPROCAL_GAMMA * (DBL_EPSILON / 2));
     double t0 = 0, t1 = tmax;
     for (int k = 0; k < 3; k++) {
         double a = (nd->lo[k] - q->o[k]) * q->inv[k];
@@ -54,13 +71,13 @@ static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, doub
     uint32_t i = PRIM_INDEX(id);
     switch (PRIM_KIND(id)) {
     case PRIM_SPHERE:
-        return sphere_t(&s->spheres[i].g, &q->r, 0, tmax);
+        return sphere_t(&s->spheres[i].g, q->r, 0, tmax);
     case PRIM_BOX:
-        return box_t(&s->boxes[i].g, &q->r, q->inv, 0, tmax);
+        return box_t(&s->boxes[i].g, q->r, q->inv, 0, tmax);
     case PRIM_PLANE:
-        return plane_t(&s->planes[i].g, &q->r, q->inv, 0, tmax);
+        return plane_t(&s->planes[i].g, q->r, q->inv, 0, tmax);
     case PRIM_QUAD:
-        if (!quad_hit(&s->quads[i].g, &q->r, 0, tmax, full))
+        if (!quad_hit(&s->quads[i].g, q->r, 0, tmax, full))
             return 0;
         full->material = s->quads[i].material;
         break;
@@ -70,7 +87,7 @@ static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, doub
         const uint32_t *f = mp->mesh->f + 3 * (size_t)tr->face;
         const double *v = mp->mesh->v;
         if (!tri_hit(v + 3 * (size_t)f[0], v + 3 * (size_t)f[1], v + 3 * (size_t)f[2],
-                     &q->r, &q->sh, 0, tmax, full, full->bary))
+                     q->r, &q->sh, 0, tmax, full, full->bary))
             return 0;
         full->material = mp->material;
         break;
@@ -88,15 +105,15 @@ static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t,
     int ok;
     switch (PRIM_KIND(id)) {
     case PRIM_SPHERE:
-        ok = sphere_hit(&s->spheres[i].g, &q->r, 0, tmax, h);
+        ok = sphere_hit(&s->spheres[i].g, q->r, 0, tmax, h);
         h->material = s->spheres[i].material;
         break;
     case PRIM_BOX:
-        ok = box_hit(&s->boxes[i].g, &q->r, 0, tmax, h);
+        ok = box_hit_inv(&s->boxes[i].g, q->r, q->inv, 0, tmax, h);
         h->material = s->boxes[i].material;
         break;
     case PRIM_PLANE:
-        ok = plane_hit(&s->planes[i].g, &q->r, 0, tmax, h);
+        ok = plane_hit_inv(&s->planes[i].g, q->r, q->inv, 0, tmax, h);
         h->material = s->planes[i].material;
         break;
     default:
@@ -153,7 +170,7 @@ int scene_closest(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h)
         }                                                                        \
     }
     for (size_t i = 0; i < s->nplanes; i++) {   /* planes first: they bound tmax */
-        double t = plane_t(&s->planes[i].g, &q.r, q.inv, 0, tmax);
+        double t = plane_t(&s->planes[i].g, q.r, q.inv, 0, tmax);
         if (t > 0 && (best == 0 || t < best)) {   /* in id order: a tie keeps the first */
             best = t;
             best_id = PRIM_ID(PRIM_PLANE, i);
@@ -212,7 +229,7 @@ int scene_occluded(const lc_scene *s, const lc_ray *r, double tmax)
     query_init(&q, r, s->c.ntris > 0);
     lc_hit tmp;
     for (size_t i = 0; i < s->nplanes; i++)
-        if (plane_t(&s->planes[i].g, &q.r, q.inv, 0, tmax) > 0)
+        if (plane_t(&s->planes[i].g, q.r, q.inv, 0, tmax) > 0)
             return 1;
     const bvh *b = &s->c.bvh;
     if (!b->nnodes)

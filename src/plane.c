@@ -49,7 +49,13 @@ lc_vec3 plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
 
 int plane_hit(const plane_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
 {
-    double t = plane_t(g, r, NULL, tmin, tmax);
+    return plane_hit_inv(g, r, NULL, tmin, tmax, h);
+}
+
+int plane_hit_inv(const plane_geom *g, const lc_ray *r, const double *inv, double tmin,
+                  double tmax, lc_hit *h)
+{
+    double t = plane_t(g, r, inv, tmin, tmax);
     if (!(t > 0))
         return 0;
     lc_vec3 raw = v3_madd(r->o, r->d, t);
