@@ -33,7 +33,9 @@ for _, a in ipairs(arg or {}) do
 end
 local FULL = os.getenv("FULL") == "1"
 local THREADS = tonumber(run.output("nproc")) or 2
-local LANCER_RUNS = 3                 -- lancer: at least 3, the median reported
+-- Runs per case; lancer's are cheap, and more of them keep a noisy spell
+-- (seen: 2x on B2 1M's trace) out of its median.
+local LANCER_RUNS = QUICK and 3 or 5
 local PEER_RUNS = QUICK and 1 or 3
 local PEER_SLOW = 60                  -- s: a peer whose first run is slower runs once
 
@@ -62,12 +64,23 @@ local function say(fmt, ...)            -- progress on stderr; stdout is the tab
   io.stderr:write(fmt:format(...), "\n")
 end
 
--- The peers: how each is found, written, run and timed. ext names the scene file.
+-- Stops with a message (no traceback: these are usage errors).
+local function fail(fmt, ...)
+  say("bench: " .. fmt, ...)
+  os.exit(2)
+end
+
+-- The peers: how each is found, written, run and timed. ext names the scene
+-- file; version is a command printing the version (Debian's package).
 local PEERS = {
-  {name = "povray", title = "POV-Ray", writer = povray, ext = "pov"},
-  {name = "tachyon", title = "Tachyon", writer = tachyon, ext = "dat"},
+  {name = "povray", writer = povray, ext = "pov"},
+  {name = "tachyon", writer = tachyon, ext = "dat"},
 }
-for _, peer in ipairs(PEERS) do peer.present = run.available(peer.name) end
+for _, peer in ipairs(PEERS) do
+  peer.present = run.available(peer.name)
+  peer.version = peer.present and
+    (run.output("dpkg-query -W -f '${Version}' " .. peer.name) or "present")
+end
 
 -- One renderer's runs on one case: lists of wall, rss_mb and (lancer) its stats.
 local function new_runs(status)
@@ -187,13 +200,19 @@ end
 -- Main --------------------------------------------------------------------
 assert(os.execute("mkdir -p " .. run.quote(OUT)))
 if not run.available(RUNSTAT) then
-  error(RUNSTAT .. " not found: run `make bench` (it builds it)", 0)
+  fail("%s not found: run `make bench` (it builds it)", RUNSTAT)
 end
+local peers_line, missing = {}, false
 for _, peer in ipairs(PEERS) do
   if not peer.present then
     say("%s is missing: lancer runs without it " ..
         "(install the peers with: apt-get install povray tachyon)", peer.name)
   end
+  missing = missing or not peer.present
+  peers_line[#peers_line + 1] = peer.name .. " " .. (peer.version or "missing")
+end
+if missing then
+  peers_line[#peers_line + 1] = "install with: apt-get install povray tachyon"
 end
 local machine = {
   nproc = THREADS,
@@ -203,19 +222,20 @@ local machine = {
   commit = run.output("git -C " .. run.quote(ROOT) .. " rev-parse --short HEAD") or "?",
   mode = ONLY and "selected cases" or QUICK and "quick"
          or (FULL and "full, FULL=1" or "full"),
+  peers = table.concat(peers_line, ", "),
   lancer_runs = LANCER_RUNS, peer_runs = PEER_RUNS, peer_slow = PEER_SLOW,
 }
+for key in pairs(ONLY or {}) do
+  local known = false
+  for _, case in ipairs(CASES) do known = known or case.key == key end
+  if not known then
+    fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m)", key)
+  end
+end
 local results = {}
 for _, case in ipairs(CASES) do
   local wanted = ONLY and ONLY[case.key] or (not ONLY and (case.quick or not QUICK))
   if wanted then results[#results + 1] = run_case(case) end
-end
-if ONLY then
-  for key in pairs(ONLY) do
-    local known = false
-    for _, case in ipairs(CASES) do known = known or case.key == key end
-    if not known then say("no case '%s' (cases: b1 b1-16spp b2-1k ... b3-4m)", key) end
-  end
 end
 
 local text = report.markdown(machine, results)

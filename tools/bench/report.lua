@@ -222,9 +222,9 @@ within).
 function M.markdown(machine, results)
   local out = {}
   out[#out + 1] = "# lancer benchmark (make bench)\n\n"
-  out[#out + 1] = fmt("Machine: %d cores (nproc), %s; %s; lancer %s; %s run.\n\n",
-                      machine.nproc, machine.cpu, machine.date, machine.commit,
-                      machine.mode)
+  out[#out + 1] = fmt("Machine: %d cores (nproc), %s; %s; lancer %s; %s run.\n" ..
+                      "Peers (Debian packages): %s.\n\n", machine.nproc, machine.cpu,
+                      machine.date, machine.commit, machine.mode, machine.peers)
   out[#out + 1] = fmt(INTRO, machine.nproc, machine.lancer_runs, machine.peer_runs,
                       machine.peer_slow) .. "\n"
   out[#out + 1] = results_table(results, machine)
