@@ -359,3 +359,509 @@ T.test("H4 Lambert sphere per pixel: kd*C*I*max(0,n.l)/d^2 + ambient, no speckle
   end
 end)
 
+
+-- ---- H5 ----------------------------------------------------------------------
+T.test("H5 sphere tangent to a plane: analytic contact shadow per pixel, 1-px band out", function()
+  local Cp, Cs, Ia = {0.8, 0.8, 0.8}, {0.9, 0.4, 0.3}, 0.1
+  for _, case in ipairs{{1, 0}, {1e-3, 1e4}, {1e3, 1e6}} do
+    local s, shift = case[1], case[2]
+    local O = {shift, shift / 2, shift / 3}
+    local c, r = madd(O, {0, 1, 0}, s), s
+    local L, I = madd(O, {2, 4, 1}, s), 20 * s * s
+    local cam = {from = madd(O, {-3, 1.2, -4}, s), at = madd(O, {-0.3, 0.3, 0}, s), fov = 55}
+    local sc = lancer.scene{camera = lancer.camera(cam), ambient = Ia}
+    sc:add(lancer.plane{point = O, normal = {0, 1, 0}, material = lancer.material{color = Cp}})
+    sc:add(lancer.sphere{center = c, radius = r, material = lancer.material{color = Cs}})
+    sc:add(lancer.point_light{position = L, intensity = I})
+    local W, H = 64, 48
+    local img = sc:render{width = W, height = H}
+    local fr = frame(cam, W, H)
+    -- classes: 0 background, 1 sphere, 2 lit plane, 3 shadowed plane
+    local class, value = {}, {}
+    for j = 0, H - 1 do
+      for i = 0, W - 1 do
+        local o, d = pixel_ray(fr, i, j)
+        local ts = sphere_t(o, d, c, r)
+        local tp = d[2] < 0 and (O[2] - o[2]) / d[2] or nil
+        local k, C, cl
+        if ts and (not tp or ts < tp) then
+          local p = madd(o, d, ts)
+          local n = mul(sub(p, c), 1 / r)
+          local tl = sub(L, p)
+          local dist = len(tl)
+          local cosl = dot(n, tl) / dist
+          cl, C, k = 1, Cs, Ia + (cosl > 0 and I * cosl / dist ^ 2 or 0)
+          value[j * W + i] = {k, cosl}
+        elseif tp then
+          local p = madd(o, d, tp)
+          p[2] = O[2]
+          local tl = sub(L, p)
+          local dist = len(tl)
+          local t0, t1 = ray_sphere(p, mul(tl, 1 / dist), c, r)
+          if t0 and t1 > 0 and t0 < dist then
+            cl, C, k = 3, Cp, Ia
+          else
+            cl, C, k = 2, Cp, Ia + I * (4 * s / dist) / dist ^ 2
+          end
+        else
+          cl, C, k = 0, {0, 0, 0}, 0
+        end
+        class[j * W + i] = cl
+        value[j * W + i] = value[j * W + i] or {k}
+        value[j * W + i].C = C
+      end
+    end
+    local count, speckles = {[0] = 0, 0, 0, 0}, 0
+    local what = ("scale %g at %g"):format(s, shift)
+    check_pixels(img, function(i, j)
+      if not interior(class, W, H, i, j) then return nil end
+      local cl, v = class[j * W + i], value[j * W + i]
+      count[cl] = count[cl] + 1
+      if cl == 1 and v[2] > 0.05 and img:pixel(i + 1, j + 1) < 0.5 * v[1] * v.C[1] then
+        speckles = speckles + 1
+      end
+      return v[1] * v.C[1], v[1] * v.C[2], v[1] * v.C[3]
+    end, TOL, what)
+    T.eq(speckles, 0, what .. ": speckles on the sphere's lit side")
+    assert(count[1] > 300 and count[2] > 300 and count[3] > 100,
+           ("%s: %d sphere, %d lit, %d shadowed pixels checked"):format(what, count[1],
+           count[2], count[3]))
+  end
+end)
+
+-- ---- H6 ----------------------------------------------------------------------
+T.test("H6 a box 1e-6 thick between light and plane: the shadow is ambient only", function()
+  local C, Ia = {0.7, 0.8, 0.9}, 0.1
+  for _, case in ipairs{{1e-3, 0}, {1, 0}, {1e3, 0}, {1, 1e5}, {1e-3, 1e6}} do
+    local s, shift = case[1], case[2]
+    local O = {shift, shift / 2, shift / 3}
+    local function P(p) return madd(O, p, s) end
+    local L, I = P{0, 3, 0}, 9 * s * s
+    local cam = {from = P{4, 1.8, -3}, at = P{0, 0, 0}, fov = 60}
+    local sc = lancer.scene{camera = lancer.camera(cam), ambient = Ia}
+    sc:add(lancer.plane{point = O, normal = {0, 1, 0}, material = lancer.material{color = C}})
+    sc:add(lancer.box{min = P{-1, 2, -1}, max = P{1, 2 + 1e-6, 1}})
+    sc:add(lancer.point_light{position = L, intensity = I})
+    local W, H = 48, 48
+    local img = sc:render{width = W, height = H}
+    local fr = frame(cam, W, H)
+    local class, value = {}, {}
+    for j = 0, H - 1 do
+      for i = 0, W - 1 do
+        local o, d = pixel_ray(fr, i, j)
+        local tp = d[2] < 0 and (O[2] - o[2]) / d[2] or nil
+        local tb = ray_box(o, d, P{-1, 2, -1}, {{2 * s, 0, 0}, {0, 1e-6 * s, 0}, {0, 0, 2 * s}})
+        if tb and (not tp or tb < tp) then      -- the slab's underside: white, unlit
+          class[j * W + i], value[j * W + i] = 3, {Ia, Ia, Ia}
+        elseif not tp then
+          class[j * W + i], value[j * W + i] = 0, {0, 0, 0}
+        else
+          local p = madd(o, d, tp)
+          local pl = mul(sub(p, O), 1 / s)         -- local coordinates, y = 0
+          pl[2] = 0
+          -- where p -> L crosses y = 2 (the slab's underside)
+          local qx, qz = pl[1] / 3, pl[3] / 3
+          local dist = len(sub({0, 3, 0}, pl)) * s
+          local k = Ia
+          if math.abs(qx) <= 1 and math.abs(qz) <= 1 then
+            class[j * W + i] = 2
+          else
+            class[j * W + i], k = 1, Ia + I * (3 * s / dist) / dist ^ 2
+          end
+          value[j * W + i] = mul(C, k)
+        end
+      end
+    end
+    local shadowed = 0
+    local what = ("scale %g at %g"):format(s, shift)
+    check_pixels(img, function(i, j)
+      if not interior(class, W, H, i, j) then return nil end
+      local v = value[j * W + i]
+      if class[j * W + i] == 2 then shadowed = shadowed + 1 end
+      return v[1], v[2], v[3]
+    end, TOL, what)
+    assert(shadowed > 100, what .. ": only " .. shadowed .. " shadowed pixels checked")
+  end
+end)
+
+T.test("H6 coating: camera in the 1e-3 r gap between spheres r and 1.001r sees no light", function()
+  -- Every visible point is inside the closed outer shell and the light is
+  -- outside it: any lit pixel is a shadow ray that jumped the gap.
+  local Ci, Co, Ia = {1, 0.2, 0.2}, {0.2, 1, 0.2}, 0.2
+  for _, case in ipairs{{1e-4, 0}, {1e-2, 0}, {1, 0}, {1e2, 0}, {1e4, 0}, {1, 1e5},
+                        {1e-4, 1e7}} do
+    local s, shift = case[1], case[2]
+    local c = {shift, shift / 2, shift / 3}
+    local cam = {from = madd(c, {0, 0, -1.0005}, s), at = madd(c, {1, 0, -1.0005}, s),
+                 fov = 90}
+    local sc = lancer.scene{camera = lancer.camera(cam), ambient = Ia}
+    sc:add(lancer.sphere{center = c, radius = s, material = lancer.material{color = Ci}})
+    sc:add(lancer.sphere{center = c, radius = 1.001 * s,
+                         material = lancer.material{color = Co}})
+    sc:add(lancer.point_light{position = madd(c, {0, 0, -10}, s), intensity = 100 * s * s})
+    local W, H = 40, 40
+    local img, st = sc:render{width = W, height = H}
+    local fr = frame(cam, W, H)
+    local inner = 0
+    local what = ("r %g at %g"):format(s, shift)
+    check_pixels(img, function(i, j)
+      local o, d = pixel_ray(fr, i, j)
+      local t, margin = sphere_t(o, d, c, s)
+      if math.abs(margin) < 1e-6 then return nil end
+      if t then
+        inner = inner + 1
+        return Ia * Ci[1], Ia * Ci[2], Ia * Ci[3]
+      end
+      return Ia * Co[1], Ia * Co[2], Ia * Co[3]
+    end, 1e-6, what)
+    assert(inner > 100 and st.rays.shadow > 100,
+           ("%s: %d inner pixels, %d shadow rays"):format(what, inner, st.rays.shadow))
+  end
+end)
+
+-- ---- H7 ----------------------------------------------------------------------
+local RED, GREEN, BLUE = {1, 0, 0}, {0, 1, 0}, {0, 0, 1}
+local function flat(c) return lancer.material{color = c, kd = 0} end  -- ambient only
+
+-- Renders with 1 and 2 threads, twice each; asserts all four identical.
+local function stable_render(sc, opts, what)
+  opts.threads = 1
+  local a = sc:render(opts)
+  for _, th in ipairs{1, 2, 2} do
+    opts.threads = th
+    same_image(a, sc:render(opts), what .. ", threads " .. th)
+  end
+  no_bad_pixels(a, what)
+  return a
+end
+
+local function colour_is(img, x, y, c)
+  local r, g, b = img:pixel(x, y)
+  return r == c[1] and g == c[2] and b == c[3]
+end
+
+T.test("H7 coplanar quads, coincident spheres and planes: exact ties go to the first added", function()
+  local cam = {from = {0, 0, 0}, at = {0, 0, 1}, fov = 60}
+  local W, H = 48, 48
+  local fr = frame(cam, W, H)
+  -- In the plane z = 3 both quads have n = u x v = (0, 0, 2.25) and the same
+  -- n.(q - o), so their t is the same double: a true tie.
+  for _, order in ipairs{{RED, GREEN}, {GREEN, RED}} do
+    local sc = lancer.scene{camera = lancer.camera(cam), ambient = 1, background = BLUE}
+    sc:add(lancer.quad{corner = {-1, -1, 3}, u = {1.5, 0, 0}, v = {0, 1.5, 0},
+                       material = flat(order[1])})
+    sc:add(lancer.quad{corner = {-0.5, -0.5, 3}, u = {1.5, 0, 0}, v = {0, 1.5, 0},
+                       material = flat(order[2])})
+    local img = stable_render(sc, {width = W, height = H}, "axis quads")
+    local overlap = 0
+    check_pixels(img, function(i, j)
+      local o, d = pixel_ray(fr, i, j)
+      local t = 3 / d[3]
+      local x, y = t * d[1], t * d[2]
+      for _, e in ipairs{-1, -0.5, 0.5, 1} do
+        if math.abs(x - e) < 1e-9 or math.abs(y - e) < 1e-9 then return nil end
+      end
+      local in1 = x >= -1 and x <= 0.5 and y >= -1 and y <= 0.5
+      local in2 = x >= -0.5 and x <= 1 and y >= -0.5 and y <= 1
+      if in1 and in2 then overlap = overlap + 1 end
+      local c = in1 and order[1] or in2 and order[2] or BLUE
+      return c[1], c[2], c[3]
+    end, 0, "axis quads, first added wins")
+    assert(overlap > 100, "overlap pixels: " .. overlap)
+  end
+  -- Identical spheres: the same t, the first added wins every pixel.
+  for _, order in ipairs{{RED, GREEN}, {GREEN, RED}} do
+    local sc = lancer.scene{camera = lancer.camera(cam), ambient = 1, background = BLUE}
+    sc:add(lancer.sphere{center = {0.2, 0.1, 5}, radius = 1.3, material = flat(order[1])})
+    sc:add(lancer.sphere{center = {0.2, 0.1, 5}, radius = 1.3, material = flat(order[2])})
+    local img = stable_render(sc, {width = W, height = H}, "spheres")
+    check_pixels(img, function(i, j)
+      local o, d = pixel_ray(fr, i, j)
+      local t, margin = sphere_t(o, d, {0.2, 0.1, 5}, 1.3)
+      if math.abs(margin) < 1e-9 then return nil end
+      local c = t and order[1] or BLUE
+      return c[1], c[2], c[3]
+    end, 0, "coincident spheres, first added wins")
+  end
+  -- Coincident infinite planes, and a quad on the same plane (kinds order
+  -- ties: a quad is before a plane whatever the insertion order).
+  local sc = lancer.scene{camera = lancer.camera(cam), ambient = 1}
+  sc:add(lancer.plane{point = {0, 0, 4}, normal = {0, 0, -1}, material = flat(GREEN)})
+  sc:add(lancer.plane{point = {0, 0, 4}, normal = {0, 0, 1}, material = flat(BLUE)})
+  sc:add(lancer.quad{corner = {-1, -1, 4}, u = {2, 0, 0}, v = {0, 2, 0}, material = flat(RED)})
+  local img = stable_render(sc, {width = W, height = H}, "planes")
+  check_pixels(img, function(i, j)
+    local o, d = pixel_ray(fr, i, j)
+    local t = 4 / d[3]
+    local x, y = t * d[1], t * d[2]
+    if math.abs(math.abs(x) - 1) < 1e-9 or math.abs(math.abs(y) - 1) < 1e-9 then return nil end
+    local c = (math.abs(x) <= 1 and math.abs(y) <= 1) and RED or GREEN
+    return c[1], c[2], c[3]
+  end, 0, "coincident planes: the first; the quad on them: the quad")
+end)
+
+T.test("H7 tilted coplanar quads (ties to an ulp): bit-identical across threads and runs", function()
+  local cam = {from = {0, 0, 0}, at = {0, 0, 1}, fov = 60}
+  local W, H = 48, 48
+  local sc = lancer.scene{camera = lancer.camera(cam), ambient = 1, background = BLUE}
+  local q, u, v = {-1, -1, 3}, {1.5, 0, 0.45}, {0, 1.5, 0.3}
+  sc:add(lancer.quad{corner = q, u = u, v = v, material = flat(RED)})
+  sc:add(lancer.quad{corner = madd(madd(q, u, 0.5), v, 0.5), u = u, v = v,
+                     material = flat(GREEN)})
+  local img = stable_render(sc, {width = W, height = H, samples = 4, seed = 5}, "tilted")
+  local one = stable_render(sc, {width = W, height = H}, "tilted, 1 spp")
+  -- outside the overlap each pixel shows its own quad's colour; inside it,
+  -- red or green, never a mix at 1 spp and never the background
+  local fr = frame(cam, W, H)
+  local n = cross(u, v)
+  check_pixels(one, function(i, j)
+    local o, d = pixel_ray(fr, i, j)
+    local t = dot(n, sub(q, o)) / dot(n, d)
+    local pq = sub(madd(o, d, t), q)
+    local a = dot(cross(pq, v), n) / dot(n, n)
+    local b = dot(cross(u, pq), n) / dot(n, n)
+    for _, e in ipairs{0, 0.5, 1, 1.5} do
+      if math.abs(a - e) < 1e-9 or math.abs(b - e) < 1e-9 then return nil end
+    end
+    local in1 = a >= 0 and a <= 1 and b >= 0 and b <= 1
+    local in2 = a >= 0.5 and a <= 1.5 and b >= 0.5 and b <= 1.5
+    if in1 and in2 then
+      local c = colour_is(one, i + 1, j + 1, RED) and RED or GREEN
+      return c[1], c[2], c[3]
+    end
+    local c = in1 and RED or in2 and GREEN or BLUE
+    return c[1], c[2], c[3]
+  end, 0, "tilted quads")
+  no_bad_pixels(img, "tilted, 4 spp")
+end)
+
+-- ---- H8 ----------------------------------------------------------------------
+-- A box corner q, unit orthogonal edges e, seen from its diagonal so that the
+-- centre pixel's ray runs through the corner and (axis-aligned) the centre
+-- column's rays through an edge. Inside the analytic silhouette no pixel
+-- shows the background, and each shows the shade of one face it touches:
+-- one normal per hit, never a blend.
+local function corner_case(q, e, what)
+  local diag = add(add(e[1], e[2]), e[3])
+  local cam = {from = madd(q, diag, 3), at = madd(q, diag, 0.5), fov = 30}
+  local L = madd(madd(madd(q, e[1], 2.2), e[2], 5), e[3], 3.1)
+  local I, bg = 20, {0, 0, 1}
+  local sc = lancer.scene{camera = lancer.camera(cam), background = bg}
+  sc:add(lancer.box{corner = q, u = e[1], v = e[2], w = e[3]})
+  sc:add(lancer.point_light{position = L, intensity = I})
+  local W, H = 49, 49
+  local img = stable_render(sc, {width = W, height = H}, what)
+  local fr = frame(cam, W, H)
+  local grown = {}
+  for k = 1, 3 do grown[k] = mul(e[k], 1 + 2e-7) end
+  local inside, bad, shade_bad, worst = 0, 0, 0, ""
+  for j = 0, H - 1 do
+    for i = 0, W - 1 do
+      local o, d = pixel_ray(fr, i, j)
+      local t0, t1 = ray_box(o, d, q, e)
+      local r, g, b = img:pixel(i + 1, j + 1)
+      if t0 and t1 - t0 > 1e-7 * t0 then
+        inside = inside + 1
+        if r == bg[1] and g == bg[2] and b == bg[3] then
+          bad = bad + 1
+          worst = ("(%d, %d)"):format(i + 1, j + 1)
+        end
+        -- the faces the hit point lies on (two at an edge, three at the corner)
+        local p = madd(o, d, t0)
+        local ok = false
+        for k = 1, 3 do
+          local a = dot(sub(p, q), e[k])
+          for _, side in ipairs{{0, -1}, {1, 1}} do
+            if math.abs(a - side[1]) < 1e-7 then
+              local n = mul(e[k], side[2])
+              local tl = sub(L, p)
+              local dist = len(tl)
+              local v = I * math.max(0, dot(n, tl) / dist) / dist ^ 2
+              -- grey within float rounding: GCC 12's SLP vectorizer drops one
+              -- float rounding in the r and g lanes of shade.c (1 ulp apart)
+              if math.abs(r - v) <= TOL and math.abs(r - g) <= 1e-6
+                 and math.abs(g - b) <= 1e-6 then ok = true end
+            end
+          end
+        end
+        if not ok then
+          shade_bad = shade_bad + 1
+          worst = ("(%d, %d) = %g"):format(i + 1, j + 1, r)
+        end
+      elseif not ray_box(o, d, madd(q, diag, -1e-7), grown) then
+        assert(r == bg[1] and g == bg[2] and b == bg[3],
+               ("%s: pixel (%d, %d) outside the box is not background"):format(what, i + 1, j + 1))
+      end
+    end
+  end
+  assert(bad == 0, ("%s: %d background pixels inside the silhouette, e.g. %s"):format(what,
+         bad, worst))
+  assert(shade_bad == 0, ("%s: %d pixels match no face they touch, e.g. %s"):format(what,
+         shade_bad, worst))
+  assert(inside > 500, what .. ": only " .. inside .. " pixels inside")
+  return img
+end
+
+T.test("H8 box edges and corners hit exactly: no hole, one face's shade per pixel", function()
+  local axes = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}
+  local img = corner_case({0, 0, 0}, axes, "unit box")
+  -- the centre pixel's ray is exactly the diagonal through the corner, and
+  -- the centre column's rays lie exactly in the plane x = z of an edge
+  local r, g, b = img:pixel(25, 25)
+  assert(b ~= 1 or r ~= 0, "the corner pixel shows the background")
+  local fr, edge = frame({from = {3, 3, 3}, at = {0.5, 0.5, 0.5}, fov = 30}, 49, 49), 0
+  for y = 26, 49 do
+    local o, d = pixel_ray(fr, 24, y - 1)
+    assert(d[1] == d[3], "the centre column's rays are not in the plane x = z")
+    if ray_box(o, d, {0, 0, 0}, axes) then
+      edge = edge + 1
+      local r1, _, b1 = img:pixel(25, y)
+      assert(not (r1 == 0 and b1 == 1), ("edge pixel (25, %d) shows the background"):format(y))
+    end
+  end
+  assert(edge >= 10, "only " .. edge .. " pixels on the edge")
+  corner_case({1e3, 1e3, 1e3}, axes, "unit box at 1e3")
+  local function rotated(a, b)
+    local out = {}
+    for k = 1, 3 do out[k] = rot_x(rot_y(axes[k], math.rad(a)), math.rad(b)) end
+    return out
+  end
+  corner_case({1e3, 1e3, 1e3}, rotated(30, 45), "rotated 30/45 at 1e3")
+  corner_case({1e3, -2e3, 5e2}, rotated(45, 0), "rotated 45 at 1e3")
+  corner_case({0, 0, 0}, rotated(30, 0), "rotated 30")
+end)
+
+-- ---- H9 ----------------------------------------------------------------------
+-- Two faces of a box lit by a far light (falloff 'none': each face one shade,
+-- S_A and S_B); 16 jittered samples per pixel. In the 3-pixel band along their
+-- shared edge every value lies in [min - 1/255, max + 1/255]: no dark or
+-- bright seam, no background leaking between the faces.
+local function seam_case(q, e, what)
+  local function Wd(p) return madd(madd(madd(q, e[1], p[1]), e[2], p[2]), e[3], p[3]) end
+  local cam = {from = Wd{3.2, 0.5, -3}, at = Wd{0.5, 0.5, 0.5}, up = e[2], fov = 25}
+  local l = norm{1, 0.7, -1.5}                     -- local light direction
+  local kd, bg = 0.8, 0.95
+  local sc = lancer.scene{camera = lancer.camera(cam), background = bg}
+  sc:add(lancer.box{corner = q, u = e[1], v = e[2], w = e[3],
+                    material = lancer.material{kd = kd}})
+  sc:add(lancer.point_light{position = Wd(mul(l, 1e5)), falloff = "none"})
+  local W, H = 48, 48
+  local img = sc:render{width = W, height = H, samples = 16, seed = 9}
+  no_bad_pixels(img, what)
+  local SA, SB = kd * l[1], kd * -l[3]             -- faces +x and -z (local)
+  local lo, hi = math.min(SA, SB) - TOL, math.max(SA, SB) + TOL
+  local fr = frame(cam, W, H)
+  -- the edge (1, t, 0) in image coordinates, sampled finely
+  local pts = {}
+  for k = 0, 400 do
+    local x, y = project(fr, Wd{1, k / 400, 0})
+    pts[#pts + 1] = {x, y, k / 400}
+  end
+  local checked = 0
+  for j = 0, H - 1 do
+    local yc = j + 0.5
+    for k = 1, #pts - 1 do
+      local a, b = pts[k], pts[k + 1]
+      if (a[2] - yc) * (b[2] - yc) <= 0 and a[2] ~= b[2] then
+        local f = (yc - a[2]) / (b[2] - a[2])
+        local t = a[3] + f * (b[3] - a[3])
+        if t > 0.1 and t < 0.9 then              -- away from the box's top and bottom
+          local xc = a[1] + f * (b[1] - a[1])
+          for i = 0, W - 1 do
+            if math.abs(i + 0.5 - xc) <= 1.5 then
+              local r = img:pixel(i + 1, j + 1)
+              checked = checked + 1
+              assert(r >= lo and r <= hi, ("%s: seam pixel (%d, %d) = %g outside "
+                .. "[%g, %g]"):format(what, i + 1, j + 1, r, lo, hi))
+            end
+          end
+        end
+        break
+      end
+    end
+  end
+  assert(checked >= 40, what .. ": only " .. checked .. " band pixels")
+end
+
+T.test("H9 cube edge seam: the 3-px band stays within [min(SA,SB), max(SA,SB)] +- 1/255", function()
+  local axes = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}
+  seam_case({0, 0, 0}, axes, "unit box")
+  seam_case({1e3, 5e2, 3e2}, axes, "unit box at 1e3")
+  seam_case({1e5, 5e4, 3e4}, axes, "unit box at 1e5")
+  local rot = {}
+  for k = 1, 3 do rot[k] = rot_x(rot_y(axes[k], math.rad(30)), math.rad(20)) end
+  seam_case({1e3, 5e2, 3e2}, rot, "rotated box at 1e3")
+  local small = {}
+  for k = 1, 3 do small[k] = mul(rot[k], 1e-3) end
+  seam_case({1e2, 0, 0}, small, "rotated 1e-3 box at 1e2")
+end)
+
+-- ---- H10 ---------------------------------------------------------------------
+T.test("H10 rays in a box face's plane: the row is uniform, 0 NaN", function()
+  -- The camera sits in the plane y = 0 of the box's top face; with an odd
+  -- height the centre row's rays have d.y = 0 exactly, so (0 - 0) * inf is
+  -- NaN in the y slab.
+  local cam = {from = {0, 0, 0}, at = {0, 0, 1}, fov = 60}
+  local L, I, bg = {0, 3, 0}, 10, 0.1
+  local sc = lancer.scene{camera = lancer.camera(cam), background = bg}
+  sc:add(lancer.box{min = {-1, -1, 2}, max = {1, 0, 4}})
+  sc:add(lancer.point_light{position = L, intensity = I})
+  local W, H = 33, 33
+  local img = sc:render{width = W, height = H}
+  no_bad_pixels(img, "box face plane")
+  local fr = frame(cam, W, H)
+  local function face(p)                     -- the -z face at p
+    local tl = sub(L, p)
+    local dist = len(tl)
+    return I * math.max(0, -tl[3] / dist) / dist ^ 2
+  end
+  local row, hits, misses = 16, 0, 0
+  check_pixels(img, function(i, j)
+    local o, d = pixel_ray(fr, i, j)
+    local x = 2 * d[1] / d[3]
+    if math.abs(math.abs(x) - 1) < 1e-9 then return nil end
+    if j == row then
+      assert(d[2] == 0, "the centre row's ray is not in the face plane")
+      if math.abs(x) > 1 then return bg end
+      local r = img:pixel(i + 1, j + 1)
+      if r == bg then misses = misses + 1 else hits = hits + 1 end
+      return nil
+    end
+    local t0 = ray_box(o, d, {-1, -1, 2}, {{2, 0, 0}, {0, 1, 0}, {0, 0, 2}})
+    if t0 and d[2] < 0 then return face(madd(o, d, t0)) end
+    return bg
+  end, TOL, "box face plane, other rows")
+  assert(hits == 0 or misses == 0, ("centre row: %d hits and %d misses"):format(hits, misses))
+  -- lancer's rule: the NaN slab is ignored, the row hits the -z face
+  check_pixels(img, function(i, j)
+    if j ~= row then return nil end
+    local o, d = pixel_ray(fr, i, j)
+    local x = 2 * d[1] / d[3]
+    if math.abs(x) >= 1 - 1e-9 then return nil end
+    return face{x, 0, 2}
+  end, TOL, "centre row")
+end)
+
+T.test("H10 camera exactly on an infinite plane sees no pixel of it", function()
+  -- axis plane through the camera; tilted plane whose point is the camera
+  -- itself (p - o = 0 exactly), near the origin and far from it
+  for _, case in ipairs{{{0, 0, 0}, {0, 1, 0}}, {{0, 0, 0}, {0.3, 1, 0.2}},
+                        {{1e5, 5e4, 3e4}, {0.3, 1, 0.2}}, {{1e5, 5e4, 3e4}, {0, 1, 0}}} do
+    local from, n = case[1], case[2]
+    local c = add(from, {0.2, 0.1, 5})
+    local cam = {from = from, at = add(from, {0, 0, 1}), fov = 70}
+    local sc = lancer.scene{camera = lancer.camera(cam), ambient = 1, background = BLUE}
+    sc:add(lancer.plane{point = from, normal = n, material = flat(GREEN)})
+    sc:add(lancer.sphere{center = c, radius = 1, material = flat(RED)})
+    local W, H = 33, 33
+    local img = sc:render{width = W, height = H}
+    local fr = frame(cam, W, H)
+    check_pixels(img, function(i, j)
+      local o, d = pixel_ray(fr, i, j)
+      local t, margin = sphere_t(o, d, c, 1)
+      if math.abs(margin) < 1e-9 then return nil end
+      local col = t and RED or BLUE
+      return col[1], col[2], col[3]
+    end, 0, ("camera at %g on a plane of normal (%g, %g, %g)"):format(from[1], n[1], n[2], n[3]))
+  end
+end)
