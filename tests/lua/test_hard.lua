@@ -865,3 +865,385 @@ T.test("H10 camera exactly on an infinite plane sees no pixel of it", function()
     end, 0, ("camera at %g on a plane of normal (%g, %g, %g)"):format(from[1], n[1], n[2], n[3]))
   end
 end)
+
+-- ---- H11 ---------------------------------------------------------------------
+-- An icosphere (icosahedron split `levels` times), centre c, radius r.
+local function icosphere(c, r, levels)
+  local t = (1 + math.sqrt(5)) / 2
+  local v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+             {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}}
+  local f = {{1, 12, 6}, {1, 6, 2}, {1, 2, 8}, {1, 8, 11}, {1, 11, 12}, {2, 6, 10},
+             {6, 12, 5}, {12, 11, 3}, {11, 8, 7}, {8, 2, 9}, {4, 10, 5}, {4, 5, 3},
+             {4, 3, 7}, {4, 7, 9}, {4, 9, 10}, {5, 10, 6}, {3, 5, 12}, {7, 3, 11},
+             {9, 7, 8}, {10, 9, 2}}
+  for k = 1, #v do v[k] = norm(v[k]) end
+  for _ = 1, levels do
+    local mid, nf = {}, {}
+    local function m(a, b)
+      local key = math.min(a, b) * 100000 + math.max(a, b)
+      if not mid[key] then
+        v[#v + 1] = norm(mul(add(v[a], v[b]), 0.5))
+        mid[key] = #v
+      end
+      return mid[key]
+    end
+    for _, face in ipairs(f) do
+      local a, b, cc = face[1], face[2], face[3]
+      local ab, bc, ca = m(a, b), m(b, cc), m(cc, a)
+      nf[#nf + 1] = {a, ab, ca}
+      nf[#nf + 1] = {b, bc, ab}
+      nf[#nf + 1] = {cc, ca, bc}
+      nf[#nf + 1] = {ab, bc, ca}
+    end
+    f = nf
+  end
+  for k = 1, #v do v[k] = madd(c, v[k], r) end
+  return v, f
+end
+
+local function copy_list(t)
+  local out = {}
+  for k, x in ipairs(t) do out[k] = x end
+  return out
+end
+
+-- The icosphere scene of H11, with the mesh given.
+local function mesh_scene(mesh, c, s)
+  local sc = lancer.scene{camera = lancer.camera{from = madd(c, {0, 0, -4}, s), at = c,
+                                                 fov = 40},
+                          ambient = 0.1, background = 0.2}
+  sc:add(mesh)
+  sc:add(lancer.point_light{position = madd(c, {2, 3, -3}, s), intensity = 20 * s * s})
+  return sc
+end
+
+T.test("H11 100 degenerate triangles in a closed mesh: bit-identical image, counted", function()
+  for _, case in ipairs{{1, 0}, {1e-3, 1e4}} do
+    local s, shift = case[1], case[2]
+    local c = {shift, shift / 2, shift / 3}
+    local v, f = icosphere(c, s, 2)
+    local dv, df = copy_list(v), {}
+    -- exactly collinear: p, p + e, p + 2e with every coordinate a short binary
+    -- fraction, so no sum rounds; and duplicated vertices
+    local e = {2 ^ -12, 2 ^ -11, 2 ^ -10}
+    local p = add(c, {3 * 2 ^ -11, -2 ^ -10, 2 ^ -9})
+    dv[#dv + 1] = p
+    dv[#dv + 1] = add(p, e)
+    dv[#dv + 1] = add(p, mul(e, 2))
+    local n0 = #dv
+    dv[#dv + 1] = {v[5][1], v[5][2], v[5][3]}            -- a copy of vertex 5
+    local kinds = {
+      function(k) return {k, k, k % #v + 1} end,           -- two indices equal
+      function(k) return {k, k % #v + 1, k} end,
+      function(k) return {k, k, k} end,                   -- all three
+      function() return {n0 - 2, n0 - 1, n0} end,         -- collinear
+      function() return {n0, n0 - 2, n0 - 1} end,
+      function() return {5, n0 + 1, 7} end,               -- duplicate coordinates
+    }
+    local added = 0
+    for k, face in ipairs(f) do
+      df[#df + 1] = face
+      if k % 3 == 0 and added < 100 then
+        added = added + 1
+        df[#df + 1] = kinds[added % #kinds + 1](k % #v + 1)
+      end
+    end
+    T.eq(added, 100, "degenerate faces inserted")
+    local clean = mesh_scene(lancer.mesh{vertices = v, faces = f}, c, s)
+    local dirty = mesh_scene(lancer.mesh{vertices = dv, faces = df}, c, s)
+    for _, spp in ipairs{1, 4} do
+      local a = clean:render{width = 48, height = 48, samples = spp}
+      local b, st = dirty:render{width = 48, height = 48, samples = spp}
+      local what = ("scale %g at %g, %d spp"):format(s, shift, spp)
+      no_bad_pixels(b, what)
+      same_image(a, b, what)
+      T.eq(st.degenerate, 100, what .. ": degenerate faces counted")
+    end
+  end
+end)
+
+T.test("H11 slivers of area 1e-20*s^2 on the rays of a pixel row: finite, hit or not", function()
+  -- Each sliver lies in the plane z = -1.5s with its long edge on y = 0,
+  -- which the centre row's rays (odd height, d.y = 0 exactly) run along:
+  -- its edge function is exactly 0 there. Off that row the image is the
+  -- clean one; on it a pixel shows the clean value or the sliver's flat
+  -- shade, nothing else. (Measured: lancer shows none of them: the
+  -- conservative bound on t's rounding, ~1e5 s for a 4e-20 s wide
+  -- triangle, exceeds t, so triangle.c refuses the hit. H11 allows it.)
+  for _, s in ipairs{1e-3, 1, 1e3} do
+    local c = {0, 0, 0}
+    local v, f = icosphere(c, s, 2)
+    local sv, sf = copy_list(v), copy_list(f)
+    for k = 0, 3 do
+      local x0 = (-1 + 0.5 * k) * s
+      sv[#sv + 1] = {x0, 0, -1.5 * s}
+      sv[#sv + 1] = {x0 + 0.5 * s, 0, -1.5 * s}
+      sv[#sv + 1] = {x0 + 0.25 * s, 4e-20 * s, -1.5 * s}     -- area 1e-20 s^2
+      sf[#sf + 1] = {#sv - 2, #sv - 1, #sv}
+    end
+    local W, H = 49, 49
+    local a = mesh_scene(lancer.mesh{vertices = v, faces = f}, c, s):render{width = W, height = H}
+    local b, st = mesh_scene(lancer.mesh{vertices = sv, faces = sf}, c, s):render{
+      width = W, height = H}
+    local what = ("slivers at scale %g"):format(s)
+    T.eq(st.degenerate, 0, what .. ": slivers are not degenerate")
+    local cam = {from = madd(c, {0, 0, -4}, s), at = c, fov = 40}
+    local fr = frame(cam, W, H)
+    local L, I = madd(c, {2, 3, -3}, s), 20 * s * s
+    check_pixels(b, function(i, j)
+      local r = a:pixel(i + 1, j + 1)
+      if j ~= 24 then return r end
+      local o, d = pixel_ray(fr, i, j)
+      assert(d[2] == 0, "the centre row is not at y = 0")
+      local x = o[1] + 2.5 * s / d[3] * d[1]
+      if math.abs(x) > s then return r end
+      local tl = sub(L, {x, 0, -1.5 * s})
+      local dist = len(tl)
+      local shade = 0.1 + I * math.max(0, -tl[3] / dist) / dist ^ 2
+      local got = b:pixel(i + 1, j + 1)
+      return math.abs(got - shade) <= TOL and shade or r
+    end, TOL, what)
+  end
+end)
+
+-- ---- H12 ---------------------------------------------------------------------
+T.test("H12 radius <= 0, parallel edges, inverted boxes rejected naming the field", function()
+  local HERE = "test_hard.lua:"
+  T.check_error(function() lancer.sphere{center = {0, 0, 0}, radius = 0} end,
+                HERE, "'sphere'", "field 'radius'", "must be > 0, got 0")
+  T.check_error(function() lancer.sphere{center = {0, 0, 0}, radius = -1} end,
+                HERE, "'sphere'", "field 'radius'", "got -1")
+  T.check_error(function() lancer.sphere{center = {0, 0, 0}, radius = -0.0} end,
+                HERE, "'sphere'", "field 'radius'")
+  T.check_error(function() lancer.sphere{center = {0, 0, 0}, radius = -1e-300} end,
+                HERE, "'sphere'", "field 'radius'")
+  T.check_error(function() lancer.quad{corner = {0, 0, 0}, u = {1, 2, 3}, v = {-2, -4, -6}} end,
+                HERE, "'quad'", "field 'v'", "must not be parallel")
+  T.check_error(function() lancer.quad{corner = {0, 0, 0}, u = {1e-9, 0, 0}, v = {1e9, 0, 0}} end,
+                HERE, "'quad'", "field 'v'", "must not be parallel")
+  T.check_error(function() lancer.box{min = {0, 0, 0}, max = {1, -1, 1}} end,
+                HERE, "'box'", "field 'max'", "must be > min")
+  T.check_error(function() lancer.box{min = {0, 0, 0}, max = {1, 0, 1}} end,
+                HERE, "'box'", "field 'max'")
+  T.check_error(function() lancer.box{corner = {0, 0, 0}, u = {1, 0, 0}, v = {0, 1, 0},
+                                      w = {1, 1, 0}} end,
+                HERE, "'box'", "field 'w'", "coplanar")
+end)
+
+T.test("H12 a sphere of radius 1e-300 renders nothing: image identical without it", function()
+  -- Off-axis, and exactly on the centre pixel's ray (odd size: d = (0, 0, 1)
+  -- exactly, so the ray passes through the sphere's centre).
+  local function render(tiny)
+    local sc = lancer.scene{camera = lancer.camera{from = {0, 0, -3}, at = {0, 0, 0}, fov = 40},
+                            ambient = 0.2}
+    sc:add(lancer.plane{point = {0, 0, 5}, normal = {0, 0, -1}})
+    sc:add(lancer.sphere{center = {0.6, 0.2, 1}, radius = 0.5})
+    sc:add(lancer.point_light{position = {1, 2, -4}, intensity = 30})
+    for _, c in ipairs(tiny) do sc:add(lancer.sphere{center = c, radius = 1e-300}) end
+    return sc:render{width = 33, height = 33}
+  end
+  local ref = render{}
+  no_bad_pixels(ref, "without")
+  for _, tiny in ipairs{{{0.3, -0.7, 2}}, {{0, 0, 2}}} do
+    local img = render(tiny)
+    local what = ("tiny sphere at (%g, %g, %g)"):format(tiny[1][1], tiny[1][2], tiny[1][3])
+    no_bad_pixels(img, what)
+    same_image(ref, img, what)
+  end
+end)
+
+-- ---- H16 ---------------------------------------------------------------------
+-- Renders build(L) and build(L lifted by 1e-6 along n): no NaN in either,
+-- and every pixel more than 2.5 pixels from the light's image within 1/255.
+local function lifted(build, cam, L, n, what)
+  local W, H = 33, 33
+  local a = build(L):render{width = W, height = H}
+  local b = build(madd(L, n, 1e-6)):render{width = W, height = H}
+  no_bad_pixels(a, what)
+  no_bad_pixels(b, what .. ", lifted")
+  local lx, ly = project(frame(cam, W, H), L)
+  local n_checked = check_pixels(a, function(i, j)
+    if (i + 0.5 - lx) ^ 2 + (j + 0.5 - ly) ^ 2 < 2.5 ^ 2 then return nil end
+    return b:pixel(i + 1, j + 1)
+  end, TOL, what .. " vs lifted by 1e-6")
+  assert(n_checked > W * H - 30, what .. ": " .. n_checked .. " pixels compared")
+  return a
+end
+
+T.test("H16 point light exactly on a plane, a sphere, a mesh vertex: 0 NaN, = lifted", function()
+  local Ia = 0.05
+  -- on the plane y = 0, seen from straight above: the centre pixel's hit
+  -- point is the light itself (distance 0: no light, ambient only)
+  local cam = {from = {0, 4, 0}, at = {0, 0, 0}, up = {0, 0, 1}, fov = 60}
+  local img = lifted(function(L)
+    local sc = lancer.scene{camera = lancer.camera(cam), ambient = Ia}
+    sc:add(lancer.plane{point = {0, 0, 0}, normal = {0, 1, 0}})
+    sc:add(lancer.sphere{center = {1.2, 0.5, 0.3}, radius = 0.5})
+    sc:add(lancer.point_light{position = L, intensity = 1})
+    return sc
+  end, cam, {0, 0, 0}, {0, 1, 0}, "on the plane")
+  T.near(select(1, img:pixel(17, 17)), Ia, 1e-8, "the pixel at the light: ambient only")
+  -- on the equator of a sphere resting on a plane: the plane beyond it lit
+  cam = {from = {3, 3, -4}, at = {0.5, -0.5, 0}, fov = 60}
+  img = lifted(function(L)
+    local sc = lancer.scene{camera = lancer.camera(cam), ambient = Ia}
+    sc:add(lancer.plane{point = {0, -1, 0}, normal = {0, 1, 0}})
+    sc:add(lancer.sphere{center = {0, 0, 0}, radius = 1})
+    sc:add(lancer.point_light{position = L, intensity = 2})
+    return sc
+  end, cam, {1, 0, 0}, {1, 0, 0}, "on the sphere")
+  assert(brightest(img) > 0.3, "the light on the sphere lights nothing")
+  -- on the peak vertex of a height field; the centre pixel's ray hits the
+  -- vertex exactly
+  local verts, faces = {}, {}
+  for z = -2, 2 do
+    for x = -2, 2 do
+      local h = (x == 0 and z == 0) and 0.5 or 0.1 * ((x + 2 * z) % 3)
+      verts[#verts + 1] = {x, h, z}
+    end
+  end
+  for z = 0, 3 do
+    for x = 0, 3 do
+      local a = z * 5 + x + 1
+      faces[#faces + 1] = {a, a + 1, a + 6}
+      faces[#faces + 1] = {a, a + 6, a + 5}
+    end
+  end
+  cam = {from = {0, 5, 0}, at = {0, 0.5, 0}, up = {0, 0, 1}, fov = 60}
+  img = lifted(function(L)
+    local sc = lancer.scene{camera = lancer.camera(cam), ambient = Ia}
+    sc:add(lancer.mesh{vertices = verts, faces = faces})
+    sc:add(lancer.point_light{position = L, intensity = 1})
+    return sc
+  end, cam, {0, 0.5, 0}, {0, 1, 0}, "on a mesh vertex")
+  T.near(select(1, img:pixel(17, 17)), Ia, 1e-8, "the pixel at the light: ambient only")
+end)
+
+-- ---- H21 ---------------------------------------------------------------------
+T.test("H21 mirror furnace: kr=1 shows B everywhere, kr=rho shows rho*B (sphere, box)", function()
+  local B = {0.8, 0.6, 0.4}
+  local cam = {from = {0, 0.3, -4}, at = {0, 0, 0}, fov = 40}
+  local W, H = 32, 32
+  local fr = frame(cam, W, H)
+  local rot = {rot_y({1.2, 0, 0}, 0.4), {0, 1.2, 0}, rot_y({0, 0, 1.2}, 0.4)}
+  local q = madd(madd(madd({0, 0, 0}, rot[1], -0.5), rot[2], -0.5), rot[3], -0.5)
+  for _, shape in ipairs{"sphere", "box"} do
+    for _, m in ipairs{{1, "all", 1}, {0.6, "all", 1}, {0.6, "diffuse", {0.5, 0.3, 0.2}},
+                       {0.6, "all", {0.5, 0.3, 0.2}}, {1, "diffuse", {0.2, 0.2, 0.2}}} do
+      local kr, absorb, C = m[1], m[2], m[3]
+      local mat = lancer.material{kd = 0, kr = kr, color = C, absorb = absorb}
+      local sc = lancer.scene{camera = lancer.camera(cam), background = B, max_depth = 3}
+      if shape == "sphere" then
+        sc:add(lancer.sphere{center = {0, 0, 0}, radius = 1, material = mat})
+      else
+        sc:add(lancer.box{corner = q, u = rot[1], v = rot[2], w = rot[3], material = mat})
+      end
+      local img, st = sc:render{width = W, height = H}
+      local Cc = type(C) == "table" and C or {C, C, C}
+      local k = {}
+      for ch = 1, 3 do k[ch] = kr * (absorb == "all" and Cc[ch] or 1) * B[ch] end
+      local hits = 0
+      check_pixels(img, function(i, j)
+        local o, d = pixel_ray(fr, i, j)
+        local hit
+        if shape == "sphere" then
+          local t, margin = sphere_t(o, d, {0, 0, 0}, 1)
+          if math.abs(margin) < 1e-6 then return nil end
+          hit = t
+        else
+          local t0, t1 = ray_box(o, d, q, rot)
+          if t0 and t1 - t0 < 1e-6 * t0 then return nil end
+          hit = t0
+        end
+        if not hit then return B[1], B[2], B[3] end
+        hits = hits + 1
+        return k[1], k[2], k[3]
+      end, TOL, ("%s, kr %g, absorb '%s'"):format(shape, kr, absorb))
+      T.eq(st.rays.reflection, hits, shape .. ": one reflection ray per hit (convex)")
+    end
+  end
+end)
+
+-- ---- H25 ---------------------------------------------------------------------
+-- test_errors.lua covers NaN/inf in every field of every constructor and
+-- setter, and that failing calls leave a scene unchanged; here what it
+-- lacks: triangles, growing meshes, and finite values so large that
+-- squares or float conversions overflow.
+T.test("H25 NaN/inf in triangles and mesh growth: rejected, mesh and image unchanged", function()
+  local HERE = "test_hard.lua:"
+  local NAN, INF = 0 / 0, 1 / 0
+  for _, k in ipairs{"a", "b", "c"} do
+    for _, bad in ipairs{{NAN, "NaN in component 2"}, {INF, "infinite component 2"}} do
+      local t = {a = {0, 0, 0}, b = {1, 0, 0}, c = {0, 1, 0}}
+      t[k] = {0, bad[1], 0}
+      T.check_error(function() lancer.triangle(t) end, HERE, "'triangle'",
+                    "field '" .. k .. "'", bad[2])
+    end
+  end
+  local m = lancer.mesh{vertices = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}},
+                        faces = {{1, 2, 3}, {1, 3, 4}}}
+  local sc = lancer.scene{camera = lancer.camera{from = {0, 3, -2}, at = {0, 0, 0}}}
+  sc:add(m, lancer.point_light{position = {0, 2, 0}, intensity = 4})
+  local before = sc:render{width = 16, height = 16}
+  T.check_error(function() m:add_vertices{{2, 0, 2}, {0, NAN, 0}} end, HERE,
+                "'add_vertices'", "NaN in component 2")
+  T.check_error(function() m:add_vertices{{2, 0, 2}, {0, 0, -INF}} end, HERE,
+                "'add_vertices'", "infinite component 3")
+  T.check_error(function() m:add_faces{{1, 2, 4}, {1, 2, 99}} end, HERE, "'add_faces'",
+                "out of range")
+  T.check_error(function() m:add_normals{{0, NAN, 1}} end, HERE, "'add_normals'",
+                "NaN in component 2")
+  T.eq(m.vertex_count, 4, "vertices after failed calls")
+  T.eq(m.face_count, 2, "faces after failed calls")
+  local after = sc:render{width = 16, height = 16}
+  no_bad_pixels(after, "after failed calls")
+  same_image(before, after, "image after failed mesh calls")
+end)
+
+T.test("H25 huge finite values: rejected naming the field, or rendered with no NaN/inf", function()
+  local makers = {
+    {"sphere radius 1e300", function() return lancer.sphere{center = {0, 0, 0}, radius = 1e300} end},
+    {"sphere centre 1e300", function() return lancer.sphere{center = {1e300, 0, 0}, radius = 1} end},
+    {"sphere radius 1e200 far", function()
+      return lancer.sphere{center = {0, 0, 3e200}, radius = 1e200} end},
+    {"quad edge 1e200", function()
+      return lancer.quad{corner = {0, 0, 0}, u = {1e200, 0, 0}, v = {0, 1, 0}} end},
+    {"box edges 1e300", function()
+      return lancer.box{min = {-1e300, -1e300, 1}, max = {1e300, 1e300, 2}} end},
+    {"plane point 1e300", function()
+      return lancer.plane{point = {0, 0, 1e300}, normal = {0, 0, -1}} end},
+    {"triangle 1e300", function()
+      return lancer.triangle{a = {-1e300, -1e300, 3}, b = {1e300, -1e300, 3}, c = {0, 1e300, 3}} end},
+    {"light at 1e300", function() return lancer.point_light{position = {0, 1e300, 0}} end},
+    {"light intensity 1e300", function()
+      return lancer.point_light{position = {0, 2, -3}, intensity = 1e300} end},
+    {"light intensity 1e39", function()
+      return lancer.point_light{position = {0, 2, -3}, intensity = 1e39} end},
+  }
+  local problems = {}
+  for _, mk in ipairs(makers) do
+    local ok, obj = pcall(mk[2])
+    if not ok then
+      if not tostring(obj):find("field '", 1, true) then
+        problems[#problems + 1] = mk[1] .. ": error names no field: " .. tostring(obj)
+      end
+    else
+      local sc = lancer.scene{camera = lancer.camera{from = {0, 0, -5}, at = {0, 0, 0}},
+                              ambient = 0.1}
+      sc:add(lancer.sphere{center = {0.5, 0, 0}, radius = 1})
+      sc:add(lancer.point_light{position = {2, 3, -4}, intensity = 20})
+      sc:add(obj)
+      local rok, img = pcall(sc.render, sc, {width = 16, height = 16})
+      if not rok then
+        problems[#problems + 1] = mk[1] .. ": render raised " .. tostring(img)
+      else
+        local bad = T.bad_pixels(img)
+        if bad > 0 then
+          problems[#problems + 1] = ("%s: accepted, and %d NaN or infinite channels"):format(
+            mk[1], bad)
+        end
+      end
+    end
+  end
+  assert(#problems == 0, "\n  " .. table.concat(problems, "\n  "))
+end)
