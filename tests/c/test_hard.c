@@ -138,18 +138,21 @@ static void spawn_triangle(void **state)
                     /* an irregular triangle in the frame's (e0, e1) plane */
                     double a = 2 * PI * (i + 0.3 * lcg(&seed)) / 3;
                     double rr = s * (0.5 + lcg(&seed));
-                    vtx[i] = v3_madd(v3_madd(base, e[0], rr * cos(a)), e[1], rr * sin(a));
+                    vtx[i] = v3_madd(v3_madd(base, e[0], rr * cos(a)), e[1],
+                                     rr * sin(a));
                     p[i][0] = vtx[i].x;
                     p[i][1] = vtx[i].y;
                     p[i][2] = vtx[i].z;
                 }
                 /* the aim: 0 interior, 1 an edge, 2 a vertex */
                 int aim = k % 5 < 3 ? 0 : k % 5 == 3 ? 1 : 2;
-                double b1 = aim == 2 ? 1 : aim == 1 ? lcg(&seed) : 0.05 + 0.6 * lcg(&seed);
+                double b1 = aim == 2 ? 1 : aim == 1 ? lcg(&seed)
+                                                    : 0.05 + 0.6 * lcg(&seed);
                 double b2 = aim == 2 ? 0 : aim == 1 ? 1 - b1 : 0.05 + 0.3 * lcg(&seed);
                 lc_vec3 to = v3_madd(v3_madd(v3_mul(vtx[0], 1 - b1 - b2), vtx[1], b1),
                                      vtx[2], b2);
-                lc_vec3 n = v3_norm(v3_cross(v3_sub(vtx[1], vtx[0]), v3_sub(vtx[2], vtx[0])));
+                lc_vec3 e1 = v3_sub(vtx[1], vtx[0]), e2 = v3_sub(vtx[2], vtx[0]);
+                lc_vec3 n = v3_norm(v3_cross(e1, e2));
                 lc_vec3 a = rand_unit(&seed);
                 while (fabs(v3_dot(a, n)) < 0.1)
                     a = rand_unit(&seed);
@@ -176,12 +179,9 @@ static void spawn_triangle(void **state)
                     if (tri_hit(p[0], p[1], p[2], &sr, &sh, 0, HUGE_VAL, &h2, b2s))
                         self++;
                     /* signed distance of the new origin from the true plane */
-                    long double nx = (long double)(vtx[1].y - vtx[0].y) * (vtx[2].z - vtx[0].z)
-                                   - (long double)(vtx[1].z - vtx[0].z) * (vtx[2].y - vtx[0].y);
-                    long double ny = (long double)(vtx[1].z - vtx[0].z) * (vtx[2].x - vtx[0].x)
-                                   - (long double)(vtx[1].x - vtx[0].x) * (vtx[2].z - vtx[0].z);
-                    long double nz = (long double)(vtx[1].x - vtx[0].x) * (vtx[2].y - vtx[0].y)
-                                   - (long double)(vtx[1].y - vtx[0].y) * (vtx[2].x - vtx[0].x);
+                    long double nx = (long double)e1.y * e2.z - (long double)e1.z * e2.y;
+                    long double ny = (long double)e1.z * e2.x - (long double)e1.x * e2.z;
+                    long double nz = (long double)e1.x * e2.y - (long double)e1.y * e2.x;
                     long double dist = ((long double)sr.o.x - vtx[0].x) * nx +
                                        ((long double)sr.o.y - vtx[0].y) * ny +
                                        ((long double)sr.o.z - vtx[0].z) * nz;
@@ -223,7 +223,8 @@ static int on_face(const face *f, lc_vec3 p, double tol)
         return 0;
     lc_vec3 n = v3_cross(f->u, f->v);
     double nn = v3_dot(n, n);
-    double a = v3_dot(n, v3_cross(pq, f->v)) / nn, b = v3_dot(n, v3_cross(f->u, pq)) / nn;
+    double a = v3_dot(n, v3_cross(pq, f->v)) / nn;
+    double b = v3_dot(n, v3_cross(f->u, pq)) / nn;
     double ea = tol / v3_len(f->u), eb = tol / v3_len(f->v);
     if (a < -ea || b < -eb)
         return 0;
@@ -346,7 +347,8 @@ static void ico_build(ico *m, lc_vec3 c, double r)
     for (int level = 0; level < 2; level++) {
         int nf = 0;
         for (int i = 0; i < m->nf; i++) {
-            int a = (int)m->f[3 * i], b = (int)m->f[3 * i + 1], cc = (int)m->f[3 * i + 2];
+            int a = (int)m->f[3 * i], b = (int)m->f[3 * i + 1];
+            int cc = (int)m->f[3 * i + 2];
             int ab = ico_mid(m, a, b), bc = ico_mid(m, b, cc), ca = ico_mid(m, cc, a);
             int tri[4][3] = {{a, ab, ca}, {b, bc, ab}, {cc, ca, bc}, {ab, bc, ca}};
             for (int k = 0; k < 4; k++)
@@ -427,13 +429,14 @@ static void spawn_closed_mesh(void **state)
                 tested++;
                 lc_vec3 n = v3_dot(h.n, v3_sub(h.p, c)) > 0 ? h.n : v3_neg(h.n);
                 for (int side = -1; side <= 1; side += 2)
-                    rays += check_spawn(sc, fs, m.nf, &h, rand_dir(&seed, n, side, k), tol,
-                                        2 * s, bad);
+                    rays += check_spawn(sc, fs, m.nf, &h, rand_dir(&seed, n, side, k),
+                                        tol, 2 * s, bad);
             }
             lc_scene_free(sc);
         }
-    print_message("closed mesh: %d hits, %d spawned rays: %d out ones hit it, %d in ones "
-                  "lost, %d self-hits\n", tested, rays, bad[0] + bad[3], bad[1], bad[2]);
+    print_message("closed mesh: %d hits, %d spawned rays: %d out ones hit it, %d in "
+                  "ones lost, %d self-hits\n", tested, rays, bad[0] + bad[3], bad[1],
+                  bad[2]);
     if (cam_missed || bad[0] || bad[1] || bad[2] || bad[3])
         fail_msg("of %d hits (%d camera rays missed), %d spawned rays: %d going out hit "
                  "the mesh, %d going in escaped, %d hit their own triangle", tested,
@@ -528,8 +531,8 @@ static void spawn_cube_of_quads(void **state)
                     lc_vec3 n = v3_dot(h.n, v3_sub(h.p, centre)) > 0 ? h.n : v3_neg(h.n);
                     for (int side = -1; side <= 1; side += 2) {
                         int b[4] = {0, 0, 0, 0};
-                        rays += check_spawn(sc, fs, 6, &h, rand_dir(&seed, n, side, k), tol,
-                                            4 * s, b);
+                        rays += check_spawn(sc, fs, 6, &h, rand_dir(&seed, n, side, k),
+                                            tol, 4 * s, b);
                         self += b[2];
                         bad[3] += b[3];
                         if (exact) {
@@ -546,9 +549,9 @@ static void spawn_cube_of_quads(void **state)
                   "all: %d out ones met a quad within rounding of an edge (seam)\n",
                   tested, rays, self, escaped, bad[0], bad[1], bad[3]);
     if (self || escaped || bad[0] || bad[1])
-        fail_msg("of %d hits, %d spawned rays: %d hit their own quad; in exactly shared "
-                 "cubes %d rays from inside escaped, %d going out hit a quad, %d going in "
-                 "escaped", tested, rays, self, escaped, bad[0], bad[1]);
+        fail_msg("of %d hits, %d spawned rays: %d hit their own quad; in exactly "
+                 "shared cubes %d rays from inside escaped, %d going out hit a quad, "
+                 "%d going in escaped", tested, rays, self, escaped, bad[0], bad[1]);
 }
 
 /* The same with lancer's box, one solid: no seam at all. */
@@ -613,8 +616,8 @@ static void spawn_box_solid(void **state)
                 lc_scene_free(sc);
             }
         }
-    print_message("box solid: %d hits, %d rays going out, %d met the box\n", tested, rays,
-                  bad[0]);
+    print_message("box solid: %d hits, %d rays going out, %d met the box\n", tested,
+                  rays, bad[0]);
     if (bad[0])
         fail_msg("%d of %d rays spawned out of a box met it again", bad[0], rays);
 }
@@ -667,9 +670,9 @@ static void coating_does_not_leak(void **state)
     print_message("coating: %d rays from the inner sphere, %d leaked, %d hit it again, "
                   "%d at a wrong distance\n", tested, leaks, self, far_off);
     if (leaks || self || far_off)
-        fail_msg("of %d rays spawned outward from the inner sphere: %d missed the shell, "
-                 "%d hit the inner sphere, %d met the shell at a wrong distance", tested,
-                 leaks, self, far_off);
+        fail_msg("of %d rays spawned outward from the inner sphere: %d missed the "
+                 "shell, %d hit the inner sphere, %d met the shell at a wrong "
+                 "distance", tested, leaks, self, far_off);
 }
 
 /* A slab 1e-6 s thick over a plane, the light above it: every shadow ray
@@ -692,7 +695,8 @@ static void thin_slab_occludes(void **state)
             /* the same slab tilted, further along x */
             lc_vec3 u = v3(2 * s * cos(0.3), 2 * s * sin(0.3), 0);
             lc_vec3 v = v3_mul(v3_norm(v3(-sin(0.3), cos(0.3), 0)), 1e-6 * s);
-            lc_shape tilted = {LC_BOX, v3_madd(o0, v3(4, 1, -1), s), u, v, {0, 0, 2 * s}, 0};
+            lc_shape tilted = {LC_BOX, v3_madd(o0, v3(4, 1, -1), s), u, v,
+                               {0, 0, 2 * s}, 0};
             add_shape(sc, tilted, mat);
             compile(sc);
             uint64_t seed = 8000 + si * 10 + ti;
@@ -814,14 +818,15 @@ static void tiny_sphere_is_invisible(void **state)
     int blocked = scene_occluded(sc, &r, 7.9);
     print_message("tiny sphere: sphere_t %g, sphere_hit %d, scene_closest %s, "
                   "scene_occluded before the wall %d\n", t, full,
-                  !hit ? "nothing" : PRIM_KIND(h.shape) == PRIM_PLANE ? "the wall" : "it",
+                  !hit ? "nothing"
+                       : PRIM_KIND(h.shape) == PRIM_PLANE ? "the wall" : "it",
                   blocked);
     lc_scene_free(sc);
     /* the distance test and the full test must agree, the wall behind must
     ** be found, and nothing stops a ray before the wall */
     if ((t > 0) != full || !hit || PRIM_KIND(h.shape) != PRIM_PLANE || blocked)
-        fail_msg("through the centre of a sphere of radius 1e-300: sphere_t gives %g but "
-                 "sphere_hit %s; scene_closest %s; scene_occluded says %s", t,
+        fail_msg("through the centre of a sphere of radius 1e-300: sphere_t gives %g "
+                 "but sphere_hit %s; scene_closest %s; scene_occluded says %s", t,
                  full ? "hits" : "misses",
                  !hit ? "finds nothing (the wall behind is lost)"
                       : PRIM_KIND(h.shape) == PRIM_PLANE ? "finds the wall" : "finds it",

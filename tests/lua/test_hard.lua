@@ -540,7 +540,8 @@ local function colour_is(img, x, y, c)
   return r == c[1] and g == c[2] and b == c[3]
 end
 
-T.test("H7 coplanar quads, coincident spheres and planes: exact ties go to the first added", function()
+T.test("H7 coplanar quads, coincident spheres, planes: exact ties go to the first added",
+       function()
   local cam = {from = {0, 0, 0}, at = {0, 0, 1}, fov = 60}
   local W, H = 48, 48
   local fr = frame(cam, W, H)
@@ -600,7 +601,8 @@ T.test("H7 coplanar quads, coincident spheres and planes: exact ties go to the f
   end, 0, "coincident planes: the first; the quad on them: the quad")
 end)
 
-T.test("H7 tilted coplanar quads (ties to an ulp): bit-identical across threads and runs", function()
+T.test("H7 tilted coplanar quads (ties to an ulp): bit-identical across threads, runs",
+       function()
   local cam = {from = {0, 0, 0}, at = {0, 0, 1}, fov = 60}
   local W, H = 48, 48
   local sc = lancer.scene{camera = lancer.camera(cam), ambient = 1, background = BLUE}
@@ -1202,8 +1204,10 @@ end)
 
 T.test("H25 huge finite values: rejected naming the field, or rendered with no NaN/inf", function()
   local makers = {
-    {"sphere radius 1e300", function() return lancer.sphere{center = {0, 0, 0}, radius = 1e300} end},
-    {"sphere centre 1e300", function() return lancer.sphere{center = {1e300, 0, 0}, radius = 1} end},
+    {"sphere radius 1e300", function()
+      return lancer.sphere{center = {0, 0, 0}, radius = 1e300} end},
+    {"sphere centre 1e300", function()
+      return lancer.sphere{center = {1e300, 0, 0}, radius = 1} end},
     {"sphere radius 1e200 far", function()
       return lancer.sphere{center = {0, 0, 3e200}, radius = 1e200} end},
     {"quad edge 1e200", function()
@@ -1213,7 +1217,8 @@ T.test("H25 huge finite values: rejected naming the field, or rendered with no N
     {"plane point 1e300", function()
       return lancer.plane{point = {0, 0, 1e300}, normal = {0, 0, -1}} end},
     {"triangle 1e300", function()
-      return lancer.triangle{a = {-1e300, -1e300, 3}, b = {1e300, -1e300, 3}, c = {0, 1e300, 3}} end},
+      return lancer.triangle{a = {-1e300, -1e300, 3}, b = {1e300, -1e300, 3},
+                             c = {0, 1e300, 3}} end},
     {"light at 1e300", function() return lancer.point_light{position = {0, 1e300, 0}} end},
     {"light intensity 1e300", function()
       return lancer.point_light{position = {0, 2, -3}, intensity = 1e300} end},
@@ -1301,7 +1306,8 @@ T.test("H28 Phong exponents 1e6 and 0: per-pixel closed form, finite", function(
 end)
 
 -- ---- H31 ---------------------------------------------------------------------
-T.test("H31 infinite plane to the horizon: plane exactly below, background exactly above", function()
+T.test("H31 infinite plane to the horizon: plane exactly below, background exactly above",
+       function()
   local C, Ia, bg = {0.6, 0.7, 0.5}, 0.2, {0.1, 0.2, 0.9}
   -- pitch 0: the centre row is parallel to the plane (background); pitch
   -- -1e-9: it meets the plane ~1e9 away (plane, not culled as grazing)
@@ -1363,7 +1369,8 @@ T.test("H31 infinite plane to the horizon: plane exactly below, background exact
 end)
 
 -- ---- H32 ---------------------------------------------------------------------
-T.test("H32 lights exactly in the tangent plane or behind: 0 contribution, 0 shadow rays", function()
+T.test("H32 lights exactly in the tangent plane or behind: 0 contribution, 0 shadow rays",
+       function()
   local W, H = 24, 24
   local function render(lights, scene_kind)
     local sc
