@@ -30,6 +30,7 @@ typedef struct {
 typedef struct {
     lc_vec3 c;
     double  r;
+    double  r2;        /* r*r, or 0 when that under- or overflows: never hit */
 } sphere_geom;
 
 typedef struct {
@@ -61,6 +62,8 @@ typedef struct {
 ** else returns 0 and leaves *h untouched. */
 int sphere_hit(const sphere_geom *s, const lc_ray *r, double tmin, double tmax, lc_hit *h);
 int quad_hit(const quad_geom *q, const lc_ray *r, double tmin, double tmax, lc_hit *h);
+int quad_hit_inv(const quad_geom *q, const lc_ray *r, const double *inv, double tmin,
+                 double tmax, lc_hit *h);
 int box_hit(const box_geom *b, const lc_ray *r, double tmin, double tmax, lc_hit *h);
 int plane_hit(const plane_geom *p, const lc_ray *r, double tmin, double tmax, lc_hit *h);
 /* v0, v1, v2 point at 3 doubles each; fills bary with the weights of p. */
@@ -95,26 +98,40 @@ lc_vec3 plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
 ** (pbrt-v4's OffsetRayOrigin). */
 lc_vec3 spawn_origin(const lc_hit *h, lc_vec3 w);
 
-/* Inline: every ray meets every infinite plane, shadow rays included. */
+/* Distance along r to the plane through p with unit normal n (axis >= 0:
+** n is +-1 on that axis), or 0 for no hit in (tmin, tmax). inv: the ray's
+** reciprocals or NULL. Inline: every ray meets every infinite plane. */
+static inline double plane_distance(lc_vec3 n, lc_vec3 p, int axis, const lc_ray *r,
+                                    const double *inv, double tmin, double tmax)
+{
+    double t;
+    if (axis >= 0) {
+        /* Axis planes (walls, floors): one subtraction, exact when the
+        ** origin is near the plane, so its side is never in doubt; then
+        ** the ray's own reciprocal. A parallel ray gives inf or NaN. */
+        double i = inv ? inv[axis] : 1.0 / v3_comp(r->d, axis);
+        t = (v3_comp(p, axis) - v3_comp(r->o, axis)) * i;
+    } else {
+        double denom = v3_dot(n, r->d);
+        if (denom == 0)    /* exactly parallel; no epsilon band near grazing */
+            return 0;
+        /* n.(p - o), not k - n.o: the difference comes first, so t keeps
+        ** a few ulps of |p - o|, not of |o|. An origin on the plane within
+        ** that rounding cannot tell its side: no hit (a camera on it). */
+        lc_vec3 po = v3_sub(p, r->o);
+        double num = v3_dot(n, po);
+        double band = lc_gamma(4) * (fabs(n.x * po.x) + fabs(n.y * po.y) + fabs(n.z * po.z));
+        if (!(fabs(num) > band))
+            return 0;
+        t = num / denom;
+    }
+    return t > tmin && t < tmax ? t : 0;   /* NaN and inf fail here */
+}
+
 static inline double plane_t(const plane_geom *g, const lc_ray *r, const double *inv,
                              double tmin, double tmax)
 {
-    double t;
-    if (g->axis >= 0) {
-        /* Axis planes (walls, floors): one subtraction and the ray's own
-        ** reciprocal. A parallel ray gives inf or NaN, refused below. */
-        int a = g->axis;
-        double i = inv ? inv[a] : 1.0 / v3_comp(r->d, a);
-        t = (v3_comp(g->p, a) - v3_comp(r->o, a)) * i;
-    } else {
-        double denom = v3_dot(g->n, r->d);
-        if (denom == 0)    /* exactly parallel; no epsilon band near grazing */
-            return 0;
-        /* n.(p - o), not k - n.o: the difference is taken before the dot
-        ** product, so t stays exact to a few ulps of |p - o|, not of |o|. */
-        t = v3_dot(g->n, v3_sub(g->p, r->o)) / denom;
-    }
-    return t > tmin && t < tmax ? t : 0;   /* NaN and inf fail here */
+    return plane_distance(g->n, g->p, g->axis, r, inv, tmin, tmax);
 }
 
 #endif

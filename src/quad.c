@@ -20,11 +20,16 @@ void quad_prepare(const lc_shape *s, quad_geom *g)
 ** corner hits; two quads sharing an edge leave no crack between them. */
 int quad_hit(const quad_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
 {
-    double denom = v3_dot(g->n, r->d);
-    if (denom == 0)
-        return 0;
-    double t = v3_dot(g->n, v3_sub(g->q, r->o)) / denom;   /* see plane.c */
-    if (!(t > tmin && t < tmax))
+    return quad_hit_inv(g, r, NULL, tmin, tmax, h);
+}
+
+/* The distance is the plane's (geom.h), so a quad lying on an infinite
+** plane meets a ray at exactly the same t: ties go by id, not by rounding. */
+int quad_hit_inv(const quad_geom *g, const lc_ray *r, const double *inv, double tmin,
+                 double tmax, lc_hit *h)
+{
+    double t = plane_distance(g->un, g->q, g->axis, r, inv, tmin, tmax);
+    if (!(t > 0))
         return 0;
     lc_vec3 perr;
     lc_vec3 p = plane_snap(v3_madd(r->o, r->d, t), g->n, g->k, g->axis,

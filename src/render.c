@@ -105,12 +105,15 @@ static void render_tile(job *j, tracer *t, int tile)
                 sample_offset(j, pixel, s, n, &dx, &dy);
                 lc_ray ray = camera_ray(&j->cam, x + dx, y + dy);
                 t->rays[LC_RAY_CAMERA]++;
-                lc_color c = trace_ray(t, &ray, 0);
+                radiance c = trace_ray(t, &ray, 0);
                 r += c.r;
                 g += c.g;
                 b += c.b;
             }
-            lc_image_set(j->img, x, y, rgb((float)(r / n), (float)(g / n), (float)(b / n)));
+            /* Under RADIANCE_CAP, so the float is finite (FLT_MAX at most). */
+            lc_image_set(j->img, x, y, rgb((float)fmin(r / n, FLT_MAX),
+                                           (float)fmin(g / n, FLT_MAX),
+                                           (float)fmin(b / n, FLT_MAX)));
         }
 }
 

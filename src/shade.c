@@ -10,20 +10,38 @@
 #define SHADOW_SHORTEN 1e-9
 
 typedef struct {
-    lc_color diffuse;     /* sum of Lc * (n.l) */
-    lc_color specular;    /* sum of Lc * (R.V)^alpha */
+    radiance diffuse;     /* sum of Lc * (n.l) */
+    radiance specular;    /* sum of Lc * (R.V)^alpha */
 } light_sum;
+
+static double cap(double x) { return x < RADIANCE_CAP ? x : RADIANCE_CAP; }
+static radiance rad(lc_color c) { radiance r = {c.r, c.g, c.b}; return r; }
+static radiance r_scale(radiance a, double k)
+{
+    radiance r = {cap(a.r * k), cap(a.g * k), cap(a.b * k)};
+    return r;
+}
+static radiance r_add(radiance a, radiance b)
+{
+    radiance r = {cap(a.r + b.r), cap(a.g + b.g), cap(a.b + b.b)};
+    return r;
+}
+static radiance r_mul(radiance a, radiance b)
+{
+    radiance r = {cap(a.r * b.r), cap(a.g * b.g), cap(a.b * b.b)};
+    return r;
+}
 
 /* Adds one light of colour lc seen along unit l with n.l = cosl. */
 static void add_light(const tracer *t, const lc_material *m, lc_vec3 n, lc_vec3 v,
-                      lc_vec3 l, double cosl, lc_color lc, light_sum *sum)
+                      lc_vec3 l, double cosl, radiance lc, light_sum *sum)
 {
-    sum->diffuse = c_add(sum->diffuse, c_scale(lc, t->cosine ? cosl : 1.0));
+    sum->diffuse = r_add(sum->diffuse, r_scale(lc, t->cosine ? cosl : 1.0));
     if ((t->needs & LC_NEED_SPECULAR) && m->ks > 0) {
         lc_vec3 R = v3_sub(v3_mul(n, 2 * cosl), l);
         double rv = v3_dot(R, v);
         if (rv > 0)
-            sum->specular = c_add(sum->specular, c_scale(lc, pow(rv, m->alpha)));
+            sum->specular = r_add(sum->specular, r_scale(lc, pow(rv, m->alpha)));
     }
 }
 
@@ -52,7 +70,7 @@ static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, lc_ve
         double k = L->intensity;
         if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)
             k /= d * d;
-        add_light(t, m, n, v, l, cosl, c_scale(L->color, k), sum);
+        add_light(t, m, n, v, l, cosl, r_scale(rad(L->color), cap(k)), sum);
     }
 }
 
@@ -97,7 +115,7 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n
         }
         if (k > 1)                  /* no shape gives more than its radiance */
             k = 1;
-        add_light(t, m, n, v, l, cosl, c_scale(e->emission, k), sum);
+        add_light(t, m, n, v, l, cosl, r_scale(rad(e->emission), k), sum);
     }
 }
 
@@ -105,7 +123,7 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n
 ** light times the product of the reflection weights before it, so any
 ** max_depth costs no stack. For absorb = 'all' (the seed) the weight
 ** includes the colour: colour * (... + kr * Cr) expands to that. */
-static float max3(lc_color c) { return fmaxf(c.r, fmaxf(c.g, c.b)); }
+static double max3(radiance c) { return fmax(c.r, fmax(c.g, c.b)); }
 
 /* A ray that left primitive `from` away from its inside (or off a flat one)
 ** cannot meet it again: if it does, the spawn offset failed. */
@@ -115,16 +133,16 @@ static int cannot_return(const lc_hit *h, lc_vec3 w)
     return k == PRIM_QUAD || k == PRIM_PLANE || k == PRIM_TRIANGLE || v3_dot(w, h->n) > 0;
 }
 
-lc_color trace_ray(tracer *t, const lc_ray *r0, int depth)
+radiance trace_ray(tracer *t, const lc_ray *r0, int depth)
 {
     lc_ray r = *r0;
-    lc_color acc = {0, 0, 0}, w = {1, 1, 1};
+    radiance acc = {0, 0, 0}, w = {1, 1, 1};
     uint32_t from = 0;
     int watch = 0;             /* the last spawn cannot return to `from` */
     for (;;) {
         lc_hit h;
         if (!scene_closest(t->scene, &r, HUGE_VAL, &h))
-            return c_add(acc, c_mul(w, t->scene->settings.background));
+            return r_add(acc, r_mul(w, rad(t->scene->settings.background)));
         if (watch && h.shape == from)
             t->self_hits++;
         const lc_material *m = &t->scene->materials[h.material];
@@ -137,19 +155,19 @@ lc_color trace_ray(tracer *t, const lc_ray *r0, int depth)
         if ((t->needs & LC_NEED_EMITTER) && (m->kd > 0 || m->ks > 0))
             emitters(t, &h, m, n, v, &sum);
 
-        lc_color base = c_scale(sum.diffuse, m->kd);             /* kd Cd */
+        radiance base = r_scale(sum.diffuse, m->kd);             /* kd Cd */
         if (t->needs & LC_NEED_AMBIENT)
-            base = c_add(base, c_scale(t->scene->settings.ambient, m->ka));
-        lc_color spec = c_scale(sum.specular, m->ks);            /* ks H^a Cs */
-        lc_color local, next;
+            base = r_add(base, r_scale(rad(t->scene->settings.ambient), m->ka));
+        radiance spec = r_scale(sum.specular, m->ks);            /* ks H^a Cs */
+        radiance local, next, color = rad(m->color);
         if (m->absorb == LC_ABSORB_ALL) {     /* the seed: absorption after the sum */
-            local = c_mul(m->color, c_add(base, spec));
-            next = c_scale(c_mul(w, m->color), m->kr);
+            local = r_mul(color, r_add(base, spec));
+            next = r_scale(r_mul(w, color), m->kr);
         } else {
-            local = c_add(c_mul(m->color, base), spec);
-            next = c_scale(w, m->kr);
+            local = r_add(r_mul(color, base), spec);
+            next = r_scale(w, m->kr);
         }
-        acc = c_add(acc, c_mul(w, c_add(local, m->emission)));
+        acc = r_add(acc, r_mul(w, r_add(local, rad(m->emission))));
         if (!((t->needs & LC_NEED_REFLECT) && m->kr > 0 && depth < t->max_depth))
             return acc;
         /* Adaptive depth (POV-Ray's adc_bailout): a bounce that can add at

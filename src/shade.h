@@ -14,6 +14,15 @@ typedef struct {
     uint64_t self_hits;
 } tracer;
 
-lc_color trace_ray(tracer *t, const lc_ray *r, int depth);
+/* Radiance in double: the float colours of materials and lights are
+** widened once, and sums never round per channel differently. */
+typedef struct { double r, g, b; } radiance;
+
+/* Radiance is capped here: pixels clamp to [0, 1] when written, and the cap
+** keeps a huge light or coefficient from making an infinity, whose product
+** with a zero would be a NaN pixel. */
+#define RADIANCE_CAP 1e100
+
+radiance trace_ray(tracer *t, const lc_ray *r, int depth);
 
 #endif

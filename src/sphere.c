@@ -5,6 +5,9 @@ void sphere_prepare(const lc_shape *s, sphere_geom *g)
 {
     g->c = s->p;
     g->r = s->radius;
+    g->r2 = s->radius * s->radius;
+    if (!(g->r2 > 0) || !isfinite(g->r2))   /* 1e-300 or 1e300: beyond double */
+        g->r2 = 0;
 }
 
 /* The naive b^2 - 4ac cancels when the sphere is small or far: b^2 and 4ac
@@ -33,20 +36,28 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
 #else
 double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
 {
+    if (s->r2 == 0)
+        return 0;
     lc_vec3 f = v3_sub(r->o, s->c);
     double b = v3_dot(f, r->d);
     lc_vec3 v = v3_madd(f, r->d, -b);
-    double disc = s->r * s->r - v3_dot(v, v);
+    double disc = s->r2 - v3_dot(v, v);
     if (!(disc >= 0))
         return 0;
     double q = -b - copysign(sqrt(disc), b);
     if (q == 0)            /* tangent at the origin itself: both roots are 0 */
         return 0;
-    double c = v3_dot(f, f) - s->r * s->r;
+    double c = v3_dot(f, f) - s->r2;
     double t0 = c / q, t1 = q;
     if (t0 > t1) {
         double tt = t0; t0 = t1; t1 = tt;
     }
+    /* A root nearer than the rounding of o - c and of c itself could be the
+    ** surface the ray starts on (a camera placed on the sphere, a ray
+    ** spawned from it): refused, as pbrt-v4 refuses t below its bound. */
+    double near = lc_gamma(6) * (s->r + v3_max_abs(r->o) + v3_max_abs(s->c));
+    if (tmin < near)
+        tmin = near;
     if (t0 > tmin && t0 < tmax)
         return t0;
     if (t1 > tmin && t1 < tmax)
