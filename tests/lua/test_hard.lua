@@ -1254,11 +1254,12 @@ T.test("H25 huge finite values: rejected naming the field, or rendered with no N
 end)
 
 -- ---- H28 ---------------------------------------------------------------------
-T.test("H28 mirror hall kr=0.01 to depth 500 vs 10: no NaN, same image", function()
-  -- lancer has no throughput cut-off (adaptive depth control) yet: depth
-  -- 500 traces 50x the reflection rays of depth 10 (weights underflow to 0
-  -- after ~20 bounces and add nothing), so NUMERICS' time(500) <= 1.1
-  -- time(10) cannot hold and is not asserted; only no NaN and the image.
+T.test("H28 mirror hall kr=0.01 to depth 500 vs 10: the cutoff makes them equal", function()
+  -- The throughput cutoff (render option cutoff, 1/255 by default) stops a
+  -- chain whose weight 0.01^k falls under it, so depth 500 traces exactly
+  -- the rays of depth 10 and no ray with a vanishing weight: NUMERICS'
+  -- time(500) <= 1.1 time(10), asserted as a ray count (times are noisy).
+  local stats = {}
   local function hall(depth)
     local m = lancer.material{kd = 0.5, kr = 0.01, emission = 0.05, color = {1, 0.8, 0.6}}
     local sc = lancer.scene{max_depth = depth, ambient = 0.1,
@@ -1267,13 +1268,18 @@ T.test("H28 mirror hall kr=0.01 to depth 500 vs 10: no NaN, same image", functio
     sc:add(lancer.quad{corner = {-10, -10, 1}, u = {20, 0, 0}, v = {0, 20, 0}, material = m})
     sc:add(lancer.quad{corner = {-10, -10, -1}, u = {20, 0, 0}, v = {0, 20, 0}, material = m})
     sc:add(lancer.point_light{position = {0.3, 0.2, 0}, intensity = 0.5})
-    return sc:render{width = 16, height = 16}
+    local img, st = sc:render{width = 16, height = 16}
+    stats[depth] = st
+    return img
   end
   local a, b = hall(10), hall(500)
   no_bad_pixels(a, "depth 10")
   no_bad_pixels(b, "depth 500")
-  local d = b:diff(a, TOL)
-  T.eq(d.within, 1, ("depth 500 vs 10 (worst %g)"):format(d.max))
+  local d = b:diff(a, 0)
+  T.eq(d.max, 0, "depth 500 vs 10")
+  T.eq(stats[500].rays.reflection, stats[10].rays.reflection, "reflection rays")
+  T.eq(stats[500].rays.reflection, 16 * 16, "one bounce (0.01 >= 1/255), then cut")
+  T.eq(stats[500].rays.cut, 16 * 16, "the second bounce (1e-4) is cut")
 end)
 
 T.test("H28 Phong exponents 1e6 and 0: per-pixel closed form, finite", function()
