@@ -105,7 +105,9 @@ check: all $(C_TESTS)
 	@sh tests/run.sh $(BUILD)
 
 # The peers' files, images and results.md land in out/bench/ (tools/bench/).
+# The naive build prices the robust code (tools/bench/robust.lua).
 bench: all $(BUILD)/bin/lc-runstat
+	@$(MAKE) --no-print-directory NAIVE=1 build/naive/bin/lancer
 	$(BIN) tools/bench/bench.lua $(if $(filter 1,$(QUICK)),quick)
 
 $(BUILD)/bin/lc-runstat: tools/runstat.c

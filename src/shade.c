@@ -123,7 +123,7 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n
 ** light times the product of the reflection weights before it, so any
 ** max_depth costs no stack. For absorb = 'all' (the seed) the weight
 ** includes the colour: colour * (... + kr * Cr) expands to that. */
-static double max3(radiance c) { return fmax(c.r, fmax(c.g, c.b)); }
+static double max3(radiance c) { return max2(c.r, max2(c.g, c.b)); }
 
 /* A ray that left primitive `from` away from its inside (or off a flat one)
 ** cannot meet it again: if it does, the spawn offset failed. */

@@ -55,7 +55,8 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
     /* A root nearer than the rounding of o - c and of c itself could be the
     ** surface the ray starts on (a camera placed on the sphere, a ray
     ** spawned from it): refused, as pbrt-v4 refuses t below its bound. */
-    double near = lc_gamma(6) * (s->r + v3_max_abs(r->o) + v3_max_abs(s->c));
+    double near = lc_gamma(6) * (s->r + fabs(r->o.x) + fabs(r->o.y) + fabs(r->o.z) +
+                                 fabs(s->c.x) + fabs(s->c.y) + fabs(s->c.z));
     if (tmin < near)
         tmin = near;
     if (t0 > tmin && t0 < tmax)

@@ -101,13 +101,13 @@ int tri_hit(const double *v0, const double *v1, const double *v2, const lc_ray *
     double t = ts * inv;
     /* pbrt-v4's conservative bound on t's rounding error: a hit closer than
     ** it could be the surface the ray starts from, so it is refused. */
-    double mz = fmax(fabs(z[0]), fmax(fabs(z[1]), fabs(z[2])));
-    double mx = fmax(fabs(x[0]), fmax(fabs(x[1]), fabs(x[2])));
-    double my = fmax(fabs(y[0]), fmax(fabs(y[1]), fabs(y[2])));
+    double mz = max2(fabs(z[0]), max2(fabs(z[1]), fabs(z[2])));
+    double mx = max2(fabs(x[0]), max2(fabs(x[1]), fabs(x[2])));
+    double my = max2(fabs(y[0]), max2(fabs(y[1]), fabs(y[2])));
     double dz = lc_gamma(3) * mz;
     double dx = lc_gamma(5) * (mx + mz), dy = lc_gamma(5) * (my + mz);
     double de = 2 * (lc_gamma(2) * mx * my + dy * mx + dx * my);
-    double me = fmax(fabs(e0), fmax(fabs(e1), fabs(e2)));
+    double me = max2(fabs(e0), max2(fabs(e1), fabs(e2)));
     double dt = 3 * (lc_gamma(3) * me * mz + de * mz + dz * me) * fabs(inv);
     if (!(t > dt))
         return 0;

@@ -20,9 +20,13 @@ static inline lc_vec3 v3_neg(lc_vec3 a) { return v3(-a.x, -a.y, -a.z); }
 static inline double  v3_dot(lc_vec3 a, lc_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 static inline double  v3_len(lc_vec3 a) { return sqrt(v3_dot(a, a)); }
 static inline lc_vec3 v3_abs(lc_vec3 a) { return v3(fabs(a.x), fabs(a.y), fabs(a.z)); }
+/* The larger of two numbers that are not NaN: one instruction, where
+** fmax() is a library call (it must order NaNs). */
+static inline double max2(double a, double b) { return a > b ? a : b; }
+
 static inline double  v3_max_abs(lc_vec3 a)
 {
-    return fmax(fabs(a.x), fmax(fabs(a.y), fabs(a.z)));
+    return max2(fabs(a.x), max2(fabs(a.y), fabs(a.z)));
 }
 static inline double v3_comp(lc_vec3 a, int i) { return i == 0 ? a.x : i == 1 ? a.y : a.z; }
 static inline lc_vec3 v3_cross(lc_vec3 a, lc_vec3 b)

@@ -20,10 +20,12 @@ local povray = module("povray")
 local tachyon = module("tachyon")
 local run = module("run")
 local report = module("report")
+local robust = module("robust")
 
 local ROOT = run.output("cd " .. run.quote(here .. "/../..") .. " && pwd")
 local OUT = ROOT .. "/out/bench"
 local LANCER = ROOT .. "/build/bin/lancer"
+local NAIVE = ROOT .. "/build/naive/bin/lancer"    -- make NAIVE=1
 local RUNSTAT = ROOT .. "/build/bin/lc-runstat"
 
 local QUICK = os.getenv("QUICK") == "1"
@@ -228,8 +230,10 @@ local machine = {
 for key in pairs(ONLY or {}) do
   local known = false
   for _, case in ipairs(CASES) do known = known or case.key == key end
+  known = known or key == "robust"
   if not known then
-    fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m)", key)
+    fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m "
+         .. "robust)", key)
   end
 end
 local results = {}
@@ -239,6 +243,15 @@ for _, case in ipairs(CASES) do
 end
 
 local text = report.markdown(machine, results)
+if not ONLY or ONLY.robust then
+  if run.available(NAIVE) then
+    say("robustness cost")
+    text = text .. "\n" .. robust.section{run = run, runstat = RUNSTAT, root = ROOT,
+      out = OUT, robust = LANCER, naive = NAIVE, runs = QUICK and 3 or 9, say = say}
+  else
+    say("%s not found: `make bench` builds it (make NAIVE=1)", NAIVE)
+  end
+end
 io.write(text)
 io.stdout:flush()                     -- before the last line on stderr
 local f = assert(io.open(OUT .. "/results.md", "w"))
