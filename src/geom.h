@@ -31,6 +31,7 @@ typedef struct {
     lc_vec3 c;
     double  r;
     double  r2;        /* r*r, or 0 when that under- or overflows: never hit */
+    double  extent;    /* r + |c.x| + |c.y| + |c.z|: the scale of its rounding */
 } sphere_geom;
 
 typedef struct {

@@ -6,6 +6,7 @@ void sphere_prepare(const lc_shape *s, sphere_geom *g)
     g->c = s->p;
     g->r = s->radius;
     g->r2 = s->radius * s->radius;
+    g->extent = s->radius + fabs(s->p.x) + fabs(s->p.y) + fabs(s->p.z);
     if (!(g->r2 > 0) || !isfinite(g->r2))   /* 1e-300 or 1e300: beyond double */
         g->r2 = 0;
 }
@@ -40,6 +41,9 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
         return 0;
     lc_vec3 f = v3_sub(r->o, s->c);
     double b = v3_dot(f, r->d);
+    double c = v3_dot(f, f) - s->r2;
+    if (c > 0 && b > 0)    /* outside and moving away: no square root, no division */
+        return 0;
     lc_vec3 v = v3_madd(f, r->d, -b);
     double disc = s->r2 - v3_dot(v, v);
     if (!(disc >= 0))
@@ -47,7 +51,12 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
     double q = -b - copysign(sqrt(disc), b);
     if (q == 0)            /* tangent at the origin itself: both roots are 0 */
         return 0;
-    double c = v3_dot(f, f) - s->r2;
+    /* From outside toward the sphere (c > 0, q > 0) the near root c/q lies
+    ** beyond tmax when c > tmax q: most spheres a BVH visits behind the
+    ** nearest hit so far, or past a shadow ray's light, are refused without
+    ** a division. The margin keeps exact ties for the division below. */
+    if (c > 0 && q > 0 && c > tmax * q * (1 + lc_gamma(4)))
+        return 0;
     double t0 = c / q, t1 = q;
     if (t0 > t1) {
         double tt = t0; t0 = t1; t1 = tt;
@@ -55,8 +64,7 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
     /* A root nearer than the rounding of o - c and of c itself could be the
     ** surface the ray starts on (a camera placed on the sphere, a ray
     ** spawned from it): refused, as pbrt-v4 refuses t below its bound. */
-    double near = lc_gamma(6) * (s->r + fabs(r->o.x) + fabs(r->o.y) + fabs(r->o.z) +
-                                 fabs(s->c.x) + fabs(s->c.y) + fabs(s->c.z));
+    double near = lc_gamma(6) * (s->extent + fabs(r->o.x) + fabs(r->o.y) + fabs(r->o.z));
     if (tmin < near)
         tmin = near;
     if (t0 > tmin && t0 < tmax)

@@ -247,7 +247,7 @@ if not ONLY or ONLY.robust then
   if run.available(NAIVE) then
     say("robustness cost")
     text = text .. "\n" .. robust.section{run = run, runstat = RUNSTAT, root = ROOT,
-      out = OUT, robust = LANCER, naive = NAIVE, runs = QUICK and 3 or 9, say = say}
+      out = OUT, robust = LANCER, naive = NAIVE, runs = QUICK and 3 or 15, say = say}
   else
     say("%s not found: `make bench` builds it (make NAIVE=1)", NAIVE)
   end
