@@ -1,6 +1,7 @@
 /* compile.c: what a render needs from the scene: the BVH over every bounded
 ** primitive, the triangle list, and the effects the frame calls for. */
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 #include <time.h>
 #include "error.h"
@@ -8,6 +9,7 @@
 
 void compiled_free(compiled *c)
 {
+    free(c->plan);
     free(c->tris);
     bvh_free(&c->bvh);
     memset(c, 0, sizeof *c);
@@ -134,44 +136,104 @@ static lc_status build_bvh(lc_scene *s, lc_error *err)
     return bvh_build(&c->bvh, items, n, err);
 }
 
-/* Which effects some primitive can show: an effect no material in use calls
-** for is never reached by the render loop, and spawns no ray. */
-static unsigned decide_needs(const lc_scene *s)
+/* First material in use (1-based, in the order the scene met them) with
+** the property, and how many have it. */
+typedef struct { size_t count, first; } census;
+
+static void count(census *c, size_t i)
 {
-    unsigned char *used = calloc(s->nmaterials + 1, 1);
-    int lit = 0, specular = 0, reflect = 0, ambient = 0;
-    if (!used) {
-        lit = specular = reflect = ambient = 1;   /* unsure: keep everything */
-    } else {
-#define MARK(arr, n) for (size_t i = 0; i < (n); i++) used[(arr)[i].material] = 1;
-        MARK(s->spheres, s->nspheres)
-        MARK(s->quads, s->nquads)
-        MARK(s->boxes, s->nboxes)
-        MARK(s->planes, s->nplanes)
-        MARK(s->meshes, s->nmeshes)
-#undef MARK
-        for (size_t i = 0; i < s->nmaterials; i++) {
-            const lc_material *m = &s->materials[i];
-            if (!used[i])
-                continue;
-            lit |= m->kd > 0 || m->ks > 0;
-            specular |= m->ks > 0;
-            reflect |= m->kr > 0;
-            ambient |= m->ka > 0;
-        }
-        free(used);
-    }
-    unsigned needs = 0;
-    int has_lights = s->nlights > 0 || s->nemitters > 0;
-    if (lit && s->nlights > 0) needs |= LC_NEED_SHADOW;
-    if (lit && s->nemitters > 0) needs |= LC_NEED_EMITTER;
-    if (specular && has_lights) needs |= LC_NEED_SPECULAR;
-    if (reflect && s->settings.max_depth > 0) needs |= LC_NEED_REFLECT;
-    if (ambient && !c_is_black(s->settings.ambient)) needs |= LC_NEED_AMBIENT;
-    return needs;
+    if (c->count++ == 0)
+        c->first = i + 1;
 }
 
-lc_status scene_compile(lc_scene *s, lc_error *err)
+/* Decides the effects the frame needs and why, and each material's plan:
+** an effect no material in use can show is never reached by the render
+** loop and spawns no ray. */
+static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error *err)
+{
+    compiled *c = &s->c;
+    lc_render_options def = lc_render_options_default();
+    if (!o)
+        o = &def;
+    free(c->plan);
+    c->plan = calloc(s->nmaterials + 1, 1);
+    if (!c->plan)
+        return lc_fail(err, LC_ENOMEM, NULL, "out of memory planning %zu materials",
+                       s->nmaterials);
+    unsigned char *used = c->plan;          /* 1 = in use, before the plans */
+#define MARK(arr, n) for (size_t i = 0; i < (n); i++) used[(arr)[i].material] = 1;
+    MARK(s->spheres, s->nspheres)
+    MARK(s->quads, s->nquads)
+    MARK(s->boxes, s->nboxes)
+    MARK(s->planes, s->nplanes)
+    MARK(s->meshes, s->nmeshes)
+#undef MARK
+    census lit = {0, 0}, spec = {0, 0}, refl = {0, 0}, amb = {0, 0}, inuse = {0, 0};
+    for (size_t i = 0; i < s->nmaterials; i++) {
+        const lc_material *m = &s->materials[i];
+        if (!used[i])
+            continue;
+        count(&inuse, i);
+        if (m->kd > 0 || m->ks > 0) count(&lit, i);
+        if (m->ks > 0) count(&spec, i);
+        if (m->kr > 0) count(&refl, i);
+        if (m->ka > 0) count(&amb, i);
+    }
+    int lights = s->nlights > 0 || s->nemitters > 0;
+    int ambient = !c_is_black(s->settings.ambient);
+    unsigned needs = 0;
+    if (lit.count && s->nlights > 0) needs |= LC_NEED_SHADOW;
+    if (lit.count && s->nemitters > 0) needs |= LC_NEED_EMITTER;
+    if (spec.count && lights && o->specular) needs |= LC_NEED_SPECULAR;
+    if (refl.count && s->settings.max_depth > 0 && o->reflections) needs |= LC_NEED_REFLECT;
+    if (amb.count && ambient) needs |= LC_NEED_AMBIENT;
+    c->needs = needs;
+
+#define WHY(k, ...) snprintf(c->why[k], sizeof c->why[k], __VA_ARGS__)
+    if (needs & LC_NEED_SHADOW)
+        WHY(0, "%zu point light%s; %zu of %zu materials in use have kd or ks > 0 "
+            "(first: #%zu)%s", s->nlights, s->nlights == 1 ? "" : "s", lit.count,
+            inuse.count, lit.first, o->shadows ? "" : "; shadows off: no shadow rays");
+    else
+        WHY(0, s->nlights ? "no material in use has kd or ks > 0" : "no point light");
+    if (needs & LC_NEED_EMITTER)
+        WHY(1, "%zu emissive shape%s light %zu material%s with kd or ks > 0",
+            s->nemitters, s->nemitters == 1 ? "" : "s", lit.count, lit.count == 1 ? "" : "s");
+    else
+        WHY(1, s->nemitters ? "no material in use has kd or ks > 0" : "no emissive shape");
+    if (needs & LC_NEED_SPECULAR)
+        WHY(2, "%zu material%s in use with ks > 0 (first: #%zu)", spec.count,
+            spec.count == 1 ? "" : "s", spec.first);
+    else
+        WHY(2, !o->specular ? "switched off (specular = false)" : !spec.count ?
+            "no material in use has ks > 0" : "no light");
+    if (needs & LC_NEED_REFLECT)
+        WHY(3, "%zu material%s in use with kr > 0 (first: #%zu), max_depth %d",
+            refl.count, refl.count == 1 ? "" : "s", refl.first, s->settings.max_depth);
+    else
+        WHY(3, !o->reflections ? "switched off (reflections = false)" : !refl.count ?
+            "no material in use has kr > 0" : "max_depth is 0");
+    if (needs & LC_NEED_AMBIENT)
+        WHY(4, "ambient light and %zu material%s in use with ka > 0", amb.count,
+            amb.count == 1 ? "" : "s");
+    else
+        WHY(4, !ambient ? "no ambient light" : "no material in use has ka > 0");
+#undef WHY
+
+    for (size_t i = 0; i < s->nmaterials; i++) {
+        const lc_material *m = &s->materials[i];
+        unsigned char p = 0;
+        if (m->kd > 0 || m->ks > 0) p |= PLAN_LIGHTS;
+        if (m->ks > 0 && (needs & LC_NEED_SPECULAR)) p |= PLAN_SPECULAR;
+        if (m->kr > 0 && (needs & LC_NEED_REFLECT)) p |= PLAN_REFLECT;
+        if (m->ka > 0 && (needs & LC_NEED_AMBIENT)) p |= PLAN_AMBIENT;
+        if (!c_is_black(m->emission)) p |= PLAN_EMITS;
+        c->plan[i] = p;
+    }
+    return LC_OK;
+}
+
+lc_status scene_compile(lc_scene *s, const lc_render_options *o, lc_error *err)
 {
     compiled *c = &s->c;
     size_t faces = 0;
@@ -189,7 +251,10 @@ lc_status scene_compile(lc_scene *s, lc_error *err)
         }
         c->valid = 1;
     }
-    c->needs = decide_needs(s);
+    if (decide_needs(s, o, err)) {
+        compiled_free(c);
+        return LC_ENOMEM;
+    }
     c->seconds = now() - t0;
     lc_ok(err);
     return LC_OK;

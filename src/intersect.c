@@ -142,8 +142,10 @@ static void shading_normal(const lc_scene *s, lc_hit *h)
 }
 
 /* Ties in t go to the lower id, whatever order the BVH visits them in. */
-int scene_closest(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h)
+int scene_closest_n(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h,
+                    lc_counts *counts)
 {
+    uint64_t np = s->nplanes, nn = 0;   /* counted in registers, added once */
     query q;
     query_init(&q, r, s->c.ntris > 0);
     double best = 0;
@@ -153,6 +155,7 @@ int scene_closest(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h)
     {                                                                            \
         uint32_t id_ = (id);                                                     \
         double t_ = prim_t(s, id_, &q, tmax, &tmp);                              \
+        np++;                                                                    \
         if (t_ > 0 && (best == 0 || t_ < best || (t_ == best && id_ < best_id))) { \
             best = t_;                                                           \
             best_id = id_;                                                       \
@@ -170,7 +173,7 @@ int scene_closest(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h)
         }
     }
     const bvh *b = &s->c.bvh;
-    if (b->nnodes && node_enter(&b->nodes[0], &q, tmax) < HUGE_VAL) {
+    if (b->nnodes && (nn++, node_enter(&b->nodes[0], &q, tmax) < HUGE_VAL)) {
         /* Children are tested from their parent: the nearer is visited
         ** first, the farther is skipped once a hit lies before it. */
         uint32_t stack[STACK];
@@ -186,6 +189,7 @@ int scene_closest(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h)
                 uint32_t c0 = ni + 1, c1 = nd->start;
                 double t0 = node_enter(&b->nodes[c0], &q, tmax);
                 double t1 = node_enter(&b->nodes[c1], &q, tmax);
+                nn += 2;
                 if (t1 < t0) {
                     uint32_t c = c0; c0 = c1; c1 = c;
                     double t = t0; t0 = t1; t1 = t;
@@ -209,23 +213,32 @@ int scene_closest(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h)
     }
 done:
 #undef CONSIDER
+    if (counts) {
+        counts->prims += np;
+        counts->nodes += nn;
+    }
     if (best == 0 || !prim_finish(s, best_id, &q, best, h))
         return 0;
     shading_normal(s, h);
     return 1;
 }
 
-int scene_occluded(const lc_scene *s, const lc_ray *r, double tmax)
+/* Any hit: the first primitive found in (0, tmax) ends the search. */
+static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint64_t *np,
+                    uint64_t *nn)
 {
     query q;
     query_init(&q, r, s->c.ntris > 0);
     lc_hit tmp;
-    for (size_t i = 0; i < s->nplanes; i++)
+    for (size_t i = 0; i < s->nplanes; i++) {
+        ++*np;
         if (plane_t(&s->planes[i].g, q.r, q.inv, 0, tmax) > 0)
             return 1;
+    }
     const bvh *b = &s->c.bvh;
     if (!b->nnodes)
         return 0;
+    ++*nn;
     if (node_enter(&b->nodes[0], &q, tmax) == HUGE_VAL)
         return 0;
     uint32_t stack[STACK];
@@ -234,13 +247,16 @@ int scene_occluded(const lc_scene *s, const lc_ray *r, double tmax)
     for (;;) {
         const bvh_node *nd = &b->nodes[ni];
         if (nd->count) {
-            for (uint32_t k = 0; k < nd->count; k++)
+            for (uint32_t k = 0; k < nd->count; k++) {
+                ++*np;
                 if (prim_t(s, b->refs[nd->start + k], &q, tmax, &tmp) > 0)
                     return 1;
+            }
         } else {
             uint32_t c0 = ni + 1, c1 = nd->start;
             int h0 = node_enter(&b->nodes[c0], &q, tmax) < HUGE_VAL;
             int h1 = node_enter(&b->nodes[c1], &q, tmax) < HUGE_VAL;
+            *nn += 2;
             if (h0 || h1) {
                 if (h0 && h1)
                     stack[sp++] = c1;
@@ -252,4 +268,15 @@ int scene_occluded(const lc_scene *s, const lc_ray *r, double tmax)
             return 0;
         ni = stack[--sp];
     }
+}
+
+int scene_occluded_n(const lc_scene *s, const lc_ray *r, double tmax, lc_counts *counts)
+{
+    uint64_t np = 0, nn = 0;
+    int hit = occluded(s, r, tmax, &np, &nn);
+    if (counts) {
+        counts->prims += np;
+        counts->nodes += nn;
+    }
+    return hit;
 }

@@ -132,11 +132,13 @@ typedef struct lc_image lc_image;
 
 /* Effects the compile step found the scene needs; a render tests only these. */
 enum {
-    LC_NEED_SHADOW   = 1 << 0,   /* some light can light some surface */
+    LC_NEED_SHADOW   = 1 << 0,   /* point lights light some material in use, with
+                                 ** shadow rays unless the shadows switch is off */
     LC_NEED_EMITTER  = 1 << 1,   /* some shape emits and lights others */
     LC_NEED_SPECULAR = 1 << 2,   /* some material has ks > 0 and there are lights */
     LC_NEED_REFLECT  = 1 << 3,   /* some material has kr > 0 and max_depth > 0 */
-    LC_NEED_AMBIENT  = 1 << 4    /* ambient light and some ka > 0 */
+    LC_NEED_AMBIENT  = 1 << 4,   /* ambient light and some ka > 0 */
+    LC_NEEDS         = 5         /* how many: bit k is 1 << k */
 };
 
 typedef enum {
@@ -161,6 +163,9 @@ typedef struct {
     double   cutoff;         /* a reflection whose weight (the product of kr, and of
                              ** colours when absorb = all) is below this is not
                              ** traced; 0 traces every bounce to max_depth */
+    int      shadows;        /* 0: lights reach every point facing them, no shadow rays */
+    int      reflections;    /* 0: no mirror reflection at all */
+    int      specular;       /* 0: no Phong highlights */
     lc_progress_fn progress; /* may be NULL */
     void    *progress_ud;
 } lc_render_options;
@@ -182,6 +187,9 @@ typedef struct {
     size_t   degenerate;         /* zero-area triangles skipped */
     uint64_t self_hits;          /* reflection rays that hit the surface they left:
                                  ** 0 unless the geometry code has a bug */
+    uint64_t prim_tests;         /* ray/primitive intersection tests */
+    uint64_t node_tests;         /* ray/BVH node tests */
+    char     why[LC_NEEDS][128]; /* for each effect, why it is on or off */
 } lc_stats;
 
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,

@@ -2,6 +2,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 #include <lauxlib.h>
 #include <lua.h>
 #include "lancer.h"
@@ -21,7 +22,18 @@ typedef struct { lc_material m; } ud_material;
 typedef struct { lc_shape s; } ud_shape;          /* user value 1: its material */
 typedef struct { lc_point_light l; } ud_light;
 typedef struct { lc_camera c; } ud_camera;
-typedef struct { lc_scene *s; } ud_scene;         /* user value 1: see w_scene */
+typedef struct {
+    lc_scene *s;
+    double    mark;     /* when the script last handed control back: creation or
+                        ** the end of a render; what follows is scene building */
+} ud_scene;                                       /* user value 1: see w_scene */
+
+static double monotonic(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
 typedef struct { lc_image *img; } ud_image;
 typedef struct { lc_mesh *m; } ud_mesh;           /* user value 1: its material */
 
@@ -726,6 +738,7 @@ static int w_scene(lua_State *L)
     lua_setiuservalue(L, sidx, 1);
     lc_error err;
     u->s = lc_scene_new(&err);
+    u->mark = monotonic();
     if (!u->s)
         return luaL_error(L, "%s", err.msg);
     if (lc_scene_configure(u->s, &st, &err))
@@ -880,6 +893,7 @@ static int w_scene_transformed(lua_State *L)
         return luaL_argerror(L, 3, why);
     ud_scene *c = lua_newuserdatauv(L, sizeof *c, 1);      /* before the copy */
     c->s = NULL;
+    c->mark = monotonic();
     luaL_setmetatable(L, SCENE);
     int ci = lua_gettop(L);
     lua_createtable(L, 3, 0);
@@ -946,9 +960,15 @@ static void apply_overrides(lua_State *L, lc_render_options *o)
     lua_settop(L, top);
 }
 
-static void push_stats(lua_State *L, const lc_stats *st)
+static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
 {
-    lua_createtable(L, 0, 8);
+    lua_createtable(L, 0, 16);
+    lua_pushnumber(L, lua_seconds);
+    lua_setfield(L, -2, "lua_seconds");
+    lua_pushinteger(L, (lua_Integer)st->prim_tests);
+    lua_setfield(L, -2, "prim_tests");
+    lua_pushinteger(L, (lua_Integer)st->node_tests);
+    lua_setfield(L, -2, "node_tests");
     lua_pushnumber(L, st->seconds);
     lua_setfield(L, -2, "seconds");
     lua_pushnumber(L, st->compile_seconds);
@@ -977,6 +997,12 @@ static void push_stats(lua_State *L, const lc_stats *st)
         lua_setfield(L, -2, lc_need_name(bit));
     }
     lua_setfield(L, -2, "effects");
+    lua_newtable(L);
+    for (int k = 0; k < LC_NEEDS; k++) {
+        lua_pushstring(L, st->why[k]);
+        lua_setfield(L, -2, lc_need_name(1u << k));
+    }
+    lua_setfield(L, -2, "why");
 }
 
 /* lancer --check sets overrides.check: renders then go to lancer.check. */
@@ -997,7 +1023,8 @@ static int check_mode(lua_State *L)
 static int w_scene_render(lua_State *L)
 {
     static const char *const known[] = {"width", "height", "samples", "seed", "threads",
-                                        "cosine", "cutoff", "progress", NULL};
+                                        "cosine", "cutoff", "progress", "shadows",
+                                        "reflections", "specular", NULL};
     ud_scene *u = check_scene(L, 1);
     lua_settop(L, 2);
     if (check_mode(L)) {
@@ -1036,6 +1063,9 @@ static int w_scene_render(lua_State *L)
     lua_pop(L, 1);
     o.threads = lf_integer(L, 2, "threads", 0, 0);
     o.cosine = lf_boolean(L, 2, "cosine", 1);
+    o.shadows = lf_boolean(L, 2, "shadows", 1);
+    o.reflections = lf_boolean(L, 2, "reflections", 1);
+    o.specular = lf_boolean(L, 2, "specular", 1);
     o.cutoff = lf_number(L, 2, "cutoff", 0, o.cutoff);
     if (o.cutoff < 0 || o.cutoff > 1)
         return lf_error(L, 2, "cutoff", "must be in [0, 1], got %g", o.cutoff);
@@ -1051,7 +1081,9 @@ static int w_scene_render(lua_State *L)
     lua_progress_begin(&bar, show);
     o.progress = lua_progress_update;
     o.progress_ud = &bar;
+    double lua_seconds = monotonic() - u->mark;
     ui->img = lc_scene_render(u->s, &o, &st, &err);
+    u->mark = monotonic();
     lua_progress_end(&bar);
     if (!ui->img) {
         if (strcmp(err.field, "camera") == 0)
@@ -1059,7 +1091,7 @@ static int w_scene_render(lua_State *L)
                               "lancer.camera{...})");
         return lf_raise(L, 2, &err);
     }
-    push_stats(L, &st);
+    push_stats(L, &st, lua_seconds);
     return 2;
 }
 

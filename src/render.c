@@ -23,6 +23,7 @@ lc_render_options lc_render_options_default(void)
     o.samples = 1;
     o.cosine = 1;
     o.cutoff = 1.0 / 255;   /* POV-Ray's adc_bailout: below one step of 8-bit output */
+    o.shadows = o.reflections = o.specular = 1;
     return o;
 }
 
@@ -172,7 +173,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         return NULL;
     }
     double t0 = now();
-    if (scene_compile(s, err))
+    if (scene_compile(s, o, err))
         return NULL;
     double t1 = now();
     lc_image *img = lc_image_new(o->width, o->height, err);
@@ -207,6 +208,8 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         ws[i].j = &j;
         ws[i].t.scene = s;
         ws[i].t.needs = s->c.needs;
+        ws[i].t.shadows = o->shadows;
+        ws[i].t.plan = s->c.plan;
         ws[i].t.max_depth = s->settings.max_depth;
         ws[i].t.cosine = o->cosine;
         ws[i].t.cutoff = o->cutoff;
@@ -257,6 +260,8 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         for (int k = 0; k < LC_RAY_KINDS; k++)
             sum.rays[k] += ws[i].t.rays[k];
         sum.self_hits += ws[i].t.self_hits;
+        sum.prim_tests += ws[i].t.counts.prims;
+        sum.node_tests += ws[i].t.counts.nodes;
     }
     sum.compile_seconds = t1 - t0;
     sum.trace_seconds = t2 - t1;
@@ -265,6 +270,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     sum.bvh_nodes = s->c.bvh.nnodes;
     sum.primitives = s->nspheres + s->nquads + s->nboxes + s->nplanes + s->c.ntris;
     sum.degenerate = s->c.degenerate;
+    memcpy(sum.why, s->c.why, sizeof sum.why);
     sum.threads = started ? started : 1;
     int cancelled = j.cancel;
     free(ws);

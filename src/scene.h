@@ -41,6 +41,8 @@ typedef struct {
     size_t   ntris, degenerate;
     bvh      bvh;          /* over spheres, quads, boxes and triangles */
     unsigned needs;        /* LC_NEED_* */
+    unsigned char *plan;   /* per material, PLAN_* below: decided once per render */
+    char     why[LC_NEEDS][128];
     double   seconds;
     int      valid;        /* matches the scene as it is now */
     size_t   faces_seen;   /* total mesh faces when compiled: meshes may grow */
@@ -65,13 +67,31 @@ struct lc_scene {
     compiled    c;
 };
 
-lc_status scene_compile(lc_scene *s, lc_error *err);
+/* What each material's shading does, so the per-hit code tests one bit per
+** step instead of every coefficient (an effect no material in use needs is
+** never reached). */
+enum {
+    PLAN_LIGHTS   = 1 << 0,   /* kd or ks > 0: the light loops */
+    PLAN_SPECULAR = 1 << 1,   /* ks > 0 and specular on */
+    PLAN_REFLECT  = 1 << 2,   /* kr > 0 and reflections on */
+    PLAN_AMBIENT  = 1 << 3,   /* ka > 0 and an ambient light */
+    PLAN_EMITS    = 1 << 4    /* emission > 0 */
+};
+
+/* o: the render's switches, or NULL for the defaults. */
+lc_status scene_compile(lc_scene *s, const lc_render_options *o, lc_error *err);
 void      compiled_free(compiled *c);
 lc_mesh  *mesh_retain(lc_mesh *m);
 
-/* Nearest hit with 0 < t < tmax; 1 if any. */
-int scene_closest(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h);
-/* 1 if anything lies on the ray with 0 < t < tmax. */
-int scene_occluded(const lc_scene *s, const lc_ray *r, double tmax);
+/* Intersection work, counted per thread: primitive and BVH node tests. */
+typedef struct { uint64_t prims, nodes; } lc_counts;
+
+/* Nearest hit with 0 < t < tmax; 1 if any. counts may be NULL. */
+int scene_closest_n(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h,
+                    lc_counts *counts);
+/* 1 if anything lies on the ray with 0 < t < tmax. counts may be NULL. */
+int scene_occluded_n(const lc_scene *s, const lc_ray *r, double tmax, lc_counts *counts);
+#define scene_closest(s, r, tmax, h) scene_closest_n((s), (r), (tmax), (h), NULL)
+#define scene_occluded(s, r, tmax)   scene_occluded_n((s), (r), (tmax), NULL)
 
 #endif

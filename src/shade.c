@@ -37,7 +37,7 @@ static void add_light(const tracer *t, const lc_material *m, lc_vec3 n, lc_vec3 
                       lc_vec3 l, double cosl, radiance lc, light_sum *sum)
 {
     sum->diffuse = r_add(sum->diffuse, r_scale(lc, t->cosine ? cosl : 1.0));
-    if ((t->needs & LC_NEED_SPECULAR) && m->ks > 0) {
+    if (t->plan[m - t->scene->materials] & PLAN_SPECULAR) {
         lc_vec3 R = v3_sub(v3_mul(n, 2 * cosl), l);
         double rv = v3_dot(R, v);
         if (rv > 0)
@@ -63,10 +63,12 @@ static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, lc_ve
             continue;
         /* From the offset origin along l: the offset is a few ulps of |p|,
         ** far inside SHADOW_SHORTEN, so the ray still stops short of L. */
-        lc_ray sr = {spawn_origin(h, l), l};
-        t->rays[LC_RAY_SHADOW]++;
-        if (scene_occluded(t->scene, &sr, d * (1 - SHADOW_SHORTEN)))
-            continue;
+        if (t->shadows) {
+            lc_ray sr = {spawn_origin(h, l), l};
+            t->rays[LC_RAY_SHADOW]++;
+            if (scene_occluded_n(t->scene, &sr, d * (1 - SHADOW_SHORTEN), &t->counts))
+                continue;
+        }
         double k = L->intensity;
         if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)
             k /= d * d;
@@ -95,15 +97,18 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n
         double cosl = v3_dot(n, l);
         if (!(cosl > 0))
             continue;
-        lc_ray sr;
-        sr.o = spawn_origin(h, l);
-        lc_vec3 so = v3_sub(e->target, sr.o);
-        double sd = v3_len(so);
-        sr.d = v3_mul(so, 1.0 / sd);
-        t->rays[LC_RAY_SHADOW]++;
-        lc_hit blk;
-        if (scene_closest(t->scene, &sr, sd * (1 - SHADOW_SHORTEN), &blk) && blk.shape != e->shape)
-            continue;
+        if (t->shadows) {
+            lc_ray sr;
+            sr.o = spawn_origin(h, l);
+            lc_vec3 so = v3_sub(e->target, sr.o);
+            double sd = v3_len(so);
+            sr.d = v3_mul(so, 1.0 / sd);
+            t->rays[LC_RAY_SHADOW]++;
+            lc_hit blk;
+            if (scene_closest_n(t->scene, &sr, sd * (1 - SHADOW_SHORTEN), &blk, &t->counts) &&
+                blk.shape != e->shape)
+                continue;
+        }
         double k;
         if (e->kind == LC_SPHERE) {
             k = (e->radius / d) * (e->radius / d);
@@ -141,22 +146,25 @@ radiance trace_ray(tracer *t, const lc_ray *r0, int depth)
     int watch = 0;             /* the last spawn cannot return to `from` */
     for (;;) {
         lc_hit h;
-        if (!scene_closest(t->scene, &r, HUGE_VAL, &h))
+        if (!scene_closest_n(t->scene, &r, HUGE_VAL, &h, &t->counts))
             return r_add(acc, r_mul(w, rad(t->scene->settings.background)));
         if (watch && h.shape == from)
             t->self_hits++;
         const lc_material *m = &t->scene->materials[h.material];
+        unsigned plan = t->plan[h.material];
         lc_vec3 n = v3_dot(h.n, r.d) > 0 ? v3_neg(h.ns) : h.ns;  /* face the viewer */
         lc_vec3 v = v3_neg(r.d);
 
         light_sum sum = {{0, 0, 0}, {0, 0, 0}};
-        if ((t->needs & LC_NEED_SHADOW) && (m->kd > 0 || m->ks > 0))
-            point_lights(t, &h, m, n, v, &sum);
-        if ((t->needs & LC_NEED_EMITTER) && (m->kd > 0 || m->ks > 0))
-            emitters(t, &h, m, n, v, &sum);
+        if (plan & PLAN_LIGHTS) {
+            if (t->needs & LC_NEED_SHADOW)
+                point_lights(t, &h, m, n, v, &sum);
+            if (t->needs & LC_NEED_EMITTER)
+                emitters(t, &h, m, n, v, &sum);
+        }
 
         radiance base = r_scale(sum.diffuse, m->kd);             /* kd Cd */
-        if (t->needs & LC_NEED_AMBIENT)
+        if (plan & PLAN_AMBIENT)
             base = r_add(base, r_scale(rad(t->scene->settings.ambient), m->ka));
         radiance spec = r_scale(sum.specular, m->ks);            /* ks H^a Cs */
         radiance local, next, color = rad(m->color);
@@ -167,8 +175,10 @@ radiance trace_ray(tracer *t, const lc_ray *r0, int depth)
             local = r_add(r_mul(color, base), spec);
             next = r_scale(w, m->kr);
         }
-        acc = r_add(acc, r_mul(w, r_add(local, rad(m->emission))));
-        if (!((t->needs & LC_NEED_REFLECT) && m->kr > 0 && depth < t->max_depth))
+        if (plan & PLAN_EMITS)
+            local = r_add(local, rad(m->emission));
+        acc = r_add(acc, r_mul(w, local));
+        if (!(plan & PLAN_REFLECT) || depth >= t->max_depth)
             return acc;
         /* Adaptive depth (POV-Ray's adc_bailout): a bounce that can add at
         ** most cutoff times what it sees is not traced. */

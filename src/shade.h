@@ -7,6 +7,9 @@
 typedef struct {
     const lc_scene *scene;
     unsigned needs;            /* copy of c->needs, minus what options turn off */
+    const unsigned char *plan; /* per material: the PLAN_* steps its shading takes */
+    int      shadows;          /* trace shadow rays (the render's switch) */
+    lc_counts counts;          /* this thread's intersection tests */
     int      max_depth;
     int      cosine;
     double   cutoff;

@@ -98,7 +98,7 @@ static void add_shape(lc_scene *s, lc_shape sh, int mat)
 static void compile(lc_scene *s)
 {
     lc_error err;
-    if (scene_compile(s, &err) != LC_OK)
+    if (scene_compile(s, NULL, &err) != LC_OK)
         fail_msg("compile: %s", err.msg);
 }
 
