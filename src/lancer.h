@@ -195,6 +195,32 @@ typedef struct {
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
                           lc_error *err);
 
+/* One ray of a pixel's ray tree (lc_scene_explain). */
+typedef struct {
+    int          parent;        /* the ray this one leaves from; -1 for the camera ray */
+    lc_ray_kind  kind;          /* camera, reflection or shadow */
+    lc_vec3      origin, direction;
+    int          hit;           /* camera and reflection rays: met a surface;
+                                ** shadow rays: reached their light */
+    double       distance;      /* to that surface, or to the light */
+    lc_vec3      point, normal; /* the surface hit; normal faces the ray */
+    int          shape_kind;    /* LC_SPHERE ... LC_PLANE, or LC_SHAPE_KINDS for a
+                                ** mesh triangle; -1 when nothing was hit */
+    long         shape;         /* index among the shapes of that kind, in the order
+                                ** added (triangles: among all meshes' faces) */
+    int          material;      /* index of its material in the scene, 0-based */
+    int          light;         /* shadow rays: the point light's index, 0-based, or
+                                ** -1 - n for the emissive shape n (0-based) */
+    lc_color     contribution;  /* what this ray adds to the pixel's value */
+} lc_ray_record;
+
+/* Traces one sample of pixel (x, y) (0-based, from the top-left) as render
+** would with these options, recording every ray. *records is malloc'd:
+** free() it. */
+lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y,
+                           int sample, lc_ray_record **records, size_t *n,
+                           lc_error *err);
+
 /* ---- Images ---------------------------------------------------------------- */
 
 typedef enum { LC_ENCODE_SRGB, LC_ENCODE_LINEAR } lc_encoding;

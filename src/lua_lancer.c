@@ -1,6 +1,7 @@
 /* lua_lancer.c: the Lua binding, a thin layer over lancer.h (require "lancer.core"). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <lauxlib.h>
@@ -674,6 +675,14 @@ static int w_camera_index(lua_State *L)
 
 /* ---- scenes --------------------------------------------------------------- */
 
+static int w_records_free(lua_State *L)
+{
+    lc_ray_record **box = lua_touserdata(L, 1);
+    free(*box);
+    *box = NULL;
+    return 0;
+}
+
 /* A scene's user value is a table: [1] its camera userdata, [2] a table from
 ** material userdata to the index the core gave it (so a material shared by a
 ** million spheres is stored once), [3] the index of the default material. */
@@ -1020,6 +1029,38 @@ static int check_mode(lua_State *L)
     return on;
 }
 
+/* The options render and explain share, from the table at arg (checked). */
+static void read_render_options(lua_State *L, int arg, lc_render_options *o)
+{
+    *o = lc_render_options_default();
+    o->width = lf_integer(L, arg, "width", 0, o->width);
+    o->height = lf_integer(L, arg, "height", 0, o->height);
+    o->samples = lf_integer(L, arg, "samples", 0, o->samples);
+    o->seed = 0;
+    if (lua_getfield(L, arg, "seed") != LUA_TNIL) {
+        int isint;
+        if (lua_type(L, -1) != LUA_TNUMBER)
+            lf_error(L, arg, "seed", "number expected, got %s", luaL_typename(L, -1));
+        double x = lua_tonumber(L, -1);
+        if (isnan(x))
+            lf_error(L, arg, "seed", "NaN is not a number here");
+        lua_Integer seed = lua_tointegerx(L, -1, &isint);
+        if (!isint || seed < 0)
+            lf_error(L, arg, "seed", "non-negative integer expected, got %s",
+                     luaL_tolstring(L, -1, NULL));
+        o->seed = (uint64_t)seed;
+    }
+    lua_pop(L, 1);
+    o->threads = lf_integer(L, arg, "threads", 0, 0);
+    o->cosine = lf_boolean(L, arg, "cosine", 1);
+    o->shadows = lf_boolean(L, arg, "shadows", 1);
+    o->reflections = lf_boolean(L, arg, "reflections", 1);
+    o->specular = lf_boolean(L, arg, "specular", 1);
+    o->cutoff = lf_number(L, arg, "cutoff", 0, o->cutoff);
+    if (o->cutoff < 0 || o->cutoff > 1)
+        lf_error(L, arg, "cutoff", "must be in [0, 1], got %g", o->cutoff);
+}
+
 static int w_scene_render(lua_State *L)
 {
     static const char *const known[] = {"width", "height", "samples", "seed", "threads",
@@ -1042,33 +1083,8 @@ static int w_scene_render(lua_State *L)
         lua_newtable(L);
     }
     lf_open(L, 2, known);
-    lc_render_options o = lc_render_options_default();
-    o.width = lf_integer(L, 2, "width", 0, o.width);
-    o.height = lf_integer(L, 2, "height", 0, o.height);
-    o.samples = lf_integer(L, 2, "samples", 0, o.samples);
-    o.seed = 0;
-    if (lua_getfield(L, 2, "seed") != LUA_TNIL) {
-        int isint;
-        if (lua_type(L, -1) != LUA_TNUMBER)
-            return lf_error(L, 2, "seed", "number expected, got %s", luaL_typename(L, -1));
-        double x = lua_tonumber(L, -1);
-        if (isnan(x))
-            return lf_error(L, 2, "seed", "NaN is not a number here");
-        lua_Integer seed = lua_tointegerx(L, -1, &isint);
-        if (!isint || seed < 0)
-            return lf_error(L, 2, "seed", "non-negative integer expected, got %s",
-                            luaL_tolstring(L, -1, NULL));
-        o.seed = (uint64_t)seed;
-    }
-    lua_pop(L, 1);
-    o.threads = lf_integer(L, 2, "threads", 0, 0);
-    o.cosine = lf_boolean(L, 2, "cosine", 1);
-    o.shadows = lf_boolean(L, 2, "shadows", 1);
-    o.reflections = lf_boolean(L, 2, "reflections", 1);
-    o.specular = lf_boolean(L, 2, "specular", 1);
-    o.cutoff = lf_number(L, 2, "cutoff", 0, o.cutoff);
-    if (o.cutoff < 0 || o.cutoff > 1)
-        return lf_error(L, 2, "cutoff", "must be in [0, 1], got %g", o.cutoff);
+    lc_render_options o;
+    read_render_options(L, 2, &o);
     int show = lf_present(L, 2, "progress") ? lf_boolean(L, 2, "progress", 0) : -1;
     apply_overrides(L, &o);
 
@@ -1093,6 +1109,147 @@ static int w_scene_render(lua_State *L)
     }
     push_stats(L, &st, lua_seconds);
     return 2;
+}
+
+#define RAYTREE "lancer.RayTree"
+
+static const char *const kind_names[] = {"sphere", "quad", "box", "plane", "triangle"};
+
+/* Pushes record i of recs as a table, its children (records whose parent is
+** i) under 'rays'. */
+static void push_record(lua_State *L, const lc_ray_record *recs, size_t n, size_t i)
+{
+    const lc_ray_record *x = &recs[i];
+    lua_createtable(L, 0, 12);
+    luaL_setmetatable(L, RAYTREE);
+    lua_pushstring(L, lc_ray_kind_name(x->kind));
+    lua_setfield(L, -2, "kind");
+    lf_push_vec3(L, x->origin);
+    lua_setfield(L, -2, "origin");
+    lf_push_vec3(L, x->direction);
+    lua_setfield(L, -2, "direction");
+    lua_pushnumber(L, x->distance);
+    lua_setfield(L, -2, "distance");
+    lf_push_color(L, x->contribution);
+    lua_setfield(L, -2, "contribution");
+    if (x->kind == LC_RAY_SHADOW) {
+        lua_pushboolean(L, x->hit);
+        lua_setfield(L, -2, "visible");
+        if (x->light >= 0)
+            lua_pushfstring(L, "point light %d", x->light + 1);
+        else
+            lua_pushfstring(L, "emissive %d", -x->light);
+        lua_setfield(L, -2, "light");
+    } else if (x->hit) {
+        lua_createtable(L, 0, 5);
+        lua_pushnumber(L, x->distance);
+        lua_setfield(L, -2, "distance");
+        lf_push_vec3(L, x->point);
+        lua_setfield(L, -2, "point");
+        lf_push_vec3(L, x->normal);
+        lua_setfield(L, -2, "normal");
+        lua_pushfstring(L, "%s %d", kind_names[x->shape_kind], (int)x->shape + 1);
+        lua_setfield(L, -2, "shape");
+        lua_pushinteger(L, x->material + 1);
+        lua_setfield(L, -2, "material");
+        lua_setfield(L, -2, "hit");
+    }
+    lua_newtable(L);
+    int k = 0;
+    for (size_t j = i + 1; j < n; j++)
+        if (recs[j].parent == (int)i) {
+            push_record(L, recs, n, j);
+            lua_rawseti(L, -2, ++k);
+        }
+    lua_setfield(L, -2, "rays");
+}
+
+/* scene:explain{x = , y = , sample = 1, ...render options}: the ray tree of
+** one sample of one pixel, as nested tables that print as a tree. */
+static int w_scene_explain(lua_State *L)
+{
+    static const char *const known[] = {"x", "y", "sample", "width", "height", "samples",
+                                        "seed", "threads", "cosine", "cutoff", "shadows",
+                                        "reflections", "specular", NULL};
+    ud_scene *u = check_scene(L, 1);
+    lf_open(L, 2, known);
+    lc_render_options o;
+    read_render_options(L, 2, &o);
+    apply_overrides(L, &o);
+    int x = lf_integer(L, 2, "x", 1, 0), y = lf_integer(L, 2, "y", 1, 0);
+    int sample = lf_integer(L, 2, "sample", 0, 1);
+    /* The records belong to a userdata from the start: building the tables
+    ** may raise (out of memory) and nothing may leak then. */
+    lc_ray_record **box = lua_newuserdatauv(L, sizeof *box, 0);
+    *box = NULL;
+    lua_newtable(L);
+    lua_pushcfunction(L, w_records_free);
+    lua_setfield(L, -2, "__gc");
+    lua_setmetatable(L, -2);
+    size_t n;
+    lc_error err;
+    if (lc_scene_explain(u->s, &o, x - 1, y - 1, sample - 1, box, &n, &err))
+        return lf_raise(L, 2, &err);
+    push_record(L, *box, n, 0);
+    return 1;
+}
+
+/* Writes one node and its children, indented, into b. */
+static void tree_lines(lua_State *L, luaL_Buffer *b, int idx, int depth)
+{
+    idx = lua_absindex(L, idx);
+    for (int i = 0; i < depth; i++)
+        luaL_addstring(b, "  ");
+    lua_getfield(L, idx, "kind");
+    luaL_addstring(b, lua_tostring(L, -1));
+    lua_pop(L, 1);
+    char line[300];
+    lua_getfield(L, idx, "contribution");
+    lua_geti(L, -1, 1);
+    lua_geti(L, -2, 2);
+    lua_geti(L, -3, 3);
+    double cr = lua_tonumber(L, -3), cg = lua_tonumber(L, -2), cb = lua_tonumber(L, -1);
+    lua_pop(L, 4);
+    if (lua_getfield(L, idx, "light") == LUA_TSTRING) {
+        lua_getfield(L, idx, "visible");
+        snprintf(line, sizeof line, " to %s: %s, adds (%.4g, %.4g, %.4g)\n",
+                 lua_tostring(L, -2), lua_toboolean(L, -1) ? "visible" : "blocked",
+                 cr, cg, cb);
+        lua_pop(L, 1);
+    } else if (lua_getfield(L, idx, "hit") == LUA_TTABLE) {
+        lua_getfield(L, -1, "shape");
+        lua_getfield(L, -2, "material");
+        lua_getfield(L, -3, "distance");
+        snprintf(line, sizeof line, " hits %s (material %d) at %.6g, adds (%.4g, %.4g, %.4g)\n",
+                 lua_tostring(L, -3), (int)lua_tointeger(L, -2), lua_tonumber(L, -1),
+                 cr, cg, cb);
+        lua_pop(L, 4);
+    } else {
+        snprintf(line, sizeof line, " misses: background, adds (%.4g, %.4g, %.4g)\n",
+                 cr, cg, cb);
+        lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+    luaL_addstring(b, line);
+    lua_getfield(L, idx, "rays");
+    int rays = lua_gettop(L);
+    for (lua_Integer i = 1; lua_geti(L, rays, i) == LUA_TTABLE; i++) {
+        tree_lines(L, b, -1, depth + 1);
+        lua_pop(L, 1);
+    }
+    lua_pop(L, 2);
+}
+
+static int w_raytree_tostring(lua_State *L)
+{
+    luaL_checktype(L, 1, LUA_TTABLE);
+    luaL_Buffer b;
+    luaL_buffinit(L, &b);
+    lua_pushvalue(L, 1);
+    tree_lines(L, &b, -1, 0);
+    lua_pop(L, 1);
+    luaL_pushresult(&b);
+    return 1;
 }
 
 static int w_scene_tostring(lua_State *L)
@@ -1321,7 +1478,7 @@ int luaopen_lancer_core(lua_State *L)
         {"__index", w_scene_index}, {"__newindex", w_scene_newindex}, {NULL, NULL}};
     static const luaL_Reg scene_methods[] = {
         {"add", w_scene_add}, {"render", w_scene_render}, {"count", w_scene_count},
-        {"transformed", w_scene_transformed},
+        {"transformed", w_scene_transformed}, {"explain", w_scene_explain},
         {NULL, NULL}};
     static const luaL_Reg image_meta[] = {
         {"__gc", w_image_free}, {"__close", w_image_free}, {"__tostring", w_image_tostring},
@@ -1350,6 +1507,10 @@ int luaopen_lancer_core(lua_State *L)
     new_class(L, SCENE, scene_meta, scene_methods);
     new_class(L, IMAGE, image_meta, image_methods);
     new_class(L, MESH, mesh_meta, mesh_methods);
+    luaL_newmetatable(L, RAYTREE);
+    lua_pushcfunction(L, w_raytree_tostring);
+    lua_setfield(L, -2, "__tostring");
+    lua_pop(L, 1);
 
     luaL_newlib(L, funcs);
     lua_pushstring(L, LC_VERSION);

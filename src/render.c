@@ -54,6 +54,8 @@ static double now(void)
     return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
+static lc_status check_options(const lc_render_options *o, lc_error *err);
+
 typedef struct {
     const lc_render_options *o;
     lc_scene       *scene;
@@ -73,6 +75,57 @@ typedef struct {
 
 /* Sample s of n inside a pixel: the centre for one sample; a jittered
 ** k x k grid when n is a square; otherwise independent positions. */
+static void sample_offset(const job *j, uint64_t pixel, int s, int n, double *dx,
+                          double *dy);
+
+lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y,
+                           int sample, lc_ray_record **records, size_t *n, lc_error *err)
+{
+    *records = NULL;
+    *n = 0;
+    if (check_options(o, err))
+        return LC_EARG;
+    if (x < 0 || x >= o->width || y < 0 || y >= o->height)
+        return lc_fail(err, LC_EARG, x < 0 || x >= o->width ? "x" : "y",
+                       "pixel (%d, %d) is outside the %dx%d image", x + 1, y + 1,
+                       o->width, o->height);
+    if (sample < 0 || sample >= o->samples)
+        return lc_fail(err, LC_EARG, "sample", "must be in [1, %d], got %d", o->samples,
+                       sample + 1);
+    if (!s->has_camera)
+        return lc_fail(err, LC_EARG, "camera", "the scene has no camera");
+    if (scene_compile(s, o, err))
+        return err ? err->code : LC_ENOMEM;
+    job j;
+    memset(&j, 0, sizeof j);
+    j.o = o;
+    camera_frame_init(&s->camera, o->width, o->height, &j.cam);
+    ray_log log = {NULL, NULL, 0, 0, 0};
+    tracer t;
+    memset(&t, 0, sizeof t);
+    t.scene = s;
+    t.log = &log;
+    t.needs = s->c.needs;
+    t.plan = s->c.plan;
+    t.shadows = o->shadows;
+    t.max_depth = s->settings.max_depth;
+    t.cosine = o->cosine;
+    t.cutoff = o->cutoff;
+    double dx, dy;
+    sample_offset(&j, (uint64_t)y * o->width + x, sample, o->samples, &dx, &dy);
+    lc_ray ray = camera_ray(&j.cam, x + dx, y + dy);
+    trace_ray(&t, &ray, 0);
+    free(log.before);
+    if (log.failed) {
+        free(log.r);
+        return lc_fail(err, LC_ENOMEM, NULL, "out of memory recording the rays");
+    }
+    *records = log.r;
+    *n = log.n;
+    lc_ok(err);
+    return LC_OK;
+}
+
 static void sample_offset(const job *j, uint64_t pixel, int s, int n, double *dx, double *dy)
 {
     if (n == 1) {

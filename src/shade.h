@@ -4,8 +4,17 @@
 
 #include "scene.h"
 
+/* explain's record of the rays one sample traces (NULL while rendering). */
+typedef struct {
+    lc_ray_record *r;
+    double *before;          /* 3 per record: the pixel's sum before that ray */
+    size_t n, cap;
+    int failed;              /* out of memory: the rest is not recorded */
+} ray_log;
+
 typedef struct {
     const lc_scene *scene;
+    ray_log *log;
     unsigned needs;            /* copy of c->needs, minus what options turn off */
     const unsigned char *plan; /* per material: the PLAN_* steps its shading takes */
     int      shadows;          /* trace shadow rays (the render's switch) */
@@ -14,6 +23,8 @@ typedef struct {
     int      cosine;
     double   cutoff;
     uint64_t rays[LC_RAY_KINDS];   /* this thread's counts */
+    int      parent;           /* explain: the record of the ray being shaded */
+    double   w[3];             /* explain: that ray's weight in the pixel */
     uint64_t self_hits;
 } tracer;
 
@@ -27,5 +38,8 @@ typedef struct { double r, g, b; } radiance;
 #define RADIANCE_CAP 1e100
 
 radiance trace_ray(tracer *t, const lc_ray *r, int depth);
+
+/* explain: appends a record of ray r (its parent and kind); -1 if it cannot. */
+int log_ray(tracer *t, int parent, lc_ray_kind kind, const lc_ray *r);
 
 #endif
