@@ -1014,18 +1014,18 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
     lua_setfield(L, -2, "why");
 }
 
-/* lancer --check sets overrides.check: renders then go to lancer.check. */
-static int check_mode(lua_State *L)
+/* lancer.overrides[name] is true: --check sends renders to lancer.check,
+** --stats prints each render's ledger. */
+static int override_flag(lua_State *L, const char *name)
 {
-    int on = 0;
+    int top = lua_gettop(L), on = 0;
     lua_getfield(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
     if (lua_getfield(L, -1, "lancer") == LUA_TTABLE &&
         lua_getfield(L, -1, "overrides") == LUA_TTABLE) {
-        lua_getfield(L, -1, "check");
+        lua_getfield(L, -1, name);
         on = lua_toboolean(L, -1);
-        lua_pop(L, 1);
     }
-    lua_settop(L, 2);
+    lua_settop(L, top);
     return on;
 }
 
@@ -1068,7 +1068,7 @@ static int w_scene_render(lua_State *L)
                                         "reflections", "specular", NULL};
     ud_scene *u = check_scene(L, 1);
     lua_settop(L, 2);
-    if (check_mode(L)) {
+    if (override_flag(L, "check")) {
         lua_getglobal(L, "require");
         lua_pushliteral(L, "lancer.check");
         lua_call(L, 1, 1);
@@ -1108,6 +1108,15 @@ static int w_scene_render(lua_State *L)
         return lf_raise(L, 2, &err);
     }
     push_stats(L, &st, lua_seconds);
+    if (override_flag(L, "stats")) {
+        lua_getglobal(L, "require");
+        lua_pushliteral(L, "lancer.ledger");
+        lua_call(L, 1, 1);
+        lua_getfield(L, -1, "report");
+        lua_pushvalue(L, -3);
+        lua_call(L, 1, 0);
+        lua_pop(L, 1);
+    }
     return 2;
 }
 

@@ -39,6 +39,7 @@ struct cmdline {
     int nchunks;
     lua_Integer width, height, samples;  /* --width...; 0: not given */
     int check;              /* --check: is the scene numerically stable? */
+    int stats;              /* --stats: print each render's ledger */
     int unstable;           /* --check found it was not: exit 3 */
 };
 
@@ -71,6 +72,7 @@ static void print_usage(void)
 "  --width W     render at width W, whatever the script asks (positive integer)\n"
 "  --height H    render at height H, likewise\n"
 "  --samples N   take N samples per pixel, likewise\n"
+"  --stats       print each render's ledger: rays by kind, tests, phases, effects\n"
 "  --check       render each image small at scales 1e-3, 1, 1e3 and moved 1e6\n"
 "                away; report differing pixels, NaN and self-hits (exit 3 if\n"
 "                the scene is numerically unstable)\n"
@@ -173,6 +175,8 @@ static int parse_args(struct cmdline *cl)
                 return usage_error("option '%s' needs an argument", "-e");
         } else if (strcmp(a, "--check") == 0) {
             cl->check = 1;
+        } else if (strcmp(a, "--stats") == 0) {
+            cl->stats = 1;
         } else if (is_opt(a, "--width")) {
             st = parse_size(cl, &i, "--width", &cl->width);
         } else if (is_opt(a, "--height")) {
@@ -382,6 +386,10 @@ static int store_overrides(lua_State *L)
         lua_pushboolean(L, 1);
         lua_setfield(L, -2, "check");
     }
+    if (cl->stats) {
+        lua_pushboolean(L, 1);
+        lua_setfield(L, -2, "stats");
+    }
     return 0;
 }
 
@@ -399,7 +407,7 @@ static int check_verdict(lua_State *L)
 /* Loads lancer only when asked to, so -e 'print(1)' needs no renderer. */
 static int set_overrides(lua_State *L, const struct cmdline *cl)
 {
-    if (!cl->width && !cl->height && !cl->samples && !cl->check)
+    if (!cl->width && !cl->height && !cl->samples && !cl->check && !cl->stats)
         return LUA_OK;
     lua_pushcfunction(L, store_overrides);
     lua_pushlightuserdata(L, (void *)cl);

@@ -10,4 +10,7 @@ for k, v in pairs(core) do M[k] = v end
 -- which the core reads at render time.
 M.overrides = core.overrides
 
+-- lancer.ledger(stats): the statistics of a render as a readable table.
+M.ledger = require("lancer.ledger").format
+
 return M
