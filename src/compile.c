@@ -187,6 +187,13 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     if (spec.count && lights && o->specular) needs |= LC_NEED_SPECULAR;
     if (refl.count && s->settings.max_depth > 0 && o->reflections) needs |= LC_NEED_REFLECT;
     if (amb.count && ambient) needs |= LC_NEED_AMBIENT;
+    if (o->generic) {        /* everything that can run, runs */
+        if (s->nlights) needs |= LC_NEED_SHADOW;
+        if (s->nemitters) needs |= LC_NEED_EMITTER;
+        if (o->specular) needs |= LC_NEED_SPECULAR;
+        if (o->reflections && s->settings.max_depth > 0) needs |= LC_NEED_REFLECT;
+        needs |= LC_NEED_AMBIENT;
+    }
     c->needs = needs;
 
 #define WHY(k, ...) snprintf(c->why[k], sizeof c->why[k], __VA_ARGS__)
@@ -228,6 +235,10 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
         if (m->kr > 0 && (needs & LC_NEED_REFLECT)) p |= PLAN_REFLECT;
         if (m->ka > 0 && (needs & LC_NEED_AMBIENT)) p |= PLAN_AMBIENT;
         if (!c_is_black(m->emission)) p |= PLAN_EMITS;
+        if (o->generic)
+            p = PLAN_LIGHTS | PLAN_EMITS | PLAN_AMBIENT |
+                (needs & LC_NEED_SPECULAR ? PLAN_SPECULAR : 0) |
+                (needs & LC_NEED_REFLECT ? PLAN_REFLECT : 0);
         c->plan[i] = p;
     }
     return LC_OK;

@@ -166,6 +166,8 @@ typedef struct {
     int      shadows;        /* 0: lights reach every point facing them, no shadow rays */
     int      reflections;    /* 0: no mirror reflection at all */
     int      specular;       /* 0: no Phong highlights */
+    int      generic;        /* 1: every material takes every shading step (a check
+                             ** that the planned, specialised shading changes nothing) */
     lc_progress_fn progress; /* may be NULL */
     void    *progress_ud;
 } lc_render_options;

@@ -1056,6 +1056,7 @@ static void read_render_options(lua_State *L, int arg, lc_render_options *o)
     o->shadows = lf_boolean(L, arg, "shadows", 1);
     o->reflections = lf_boolean(L, arg, "reflections", 1);
     o->specular = lf_boolean(L, arg, "specular", 1);
+    o->generic = lf_boolean(L, arg, "generic", 0);
     o->cutoff = lf_number(L, arg, "cutoff", 0, o->cutoff);
     if (o->cutoff < 0 || o->cutoff > 1)
         lf_error(L, arg, "cutoff", "must be in [0, 1], got %g", o->cutoff);
@@ -1065,7 +1066,7 @@ static int w_scene_render(lua_State *L)
 {
     static const char *const known[] = {"width", "height", "samples", "seed", "threads",
                                         "cosine", "cutoff", "progress", "shadows",
-                                        "reflections", "specular", NULL};
+                                        "reflections", "specular", "generic", NULL};
     ud_scene *u = check_scene(L, 1);
     lua_settop(L, 2);
     if (override_flag(L, "check")) {
@@ -1179,7 +1180,7 @@ static int w_scene_explain(lua_State *L)
 {
     static const char *const known[] = {"x", "y", "sample", "width", "height", "samples",
                                         "seed", "threads", "cosine", "cutoff", "shadows",
-                                        "reflections", "specular", NULL};
+                                        "reflections", "specular", "generic", NULL};
     ud_scene *u = check_scene(L, 1);
     lf_open(L, 2, known);
     lc_render_options o;
