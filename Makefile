@@ -5,6 +5,7 @@
 #   make bench    lancer against POV-Ray and Tachyon (QUICK=1: a 2-minute subset)
 #   make SAN=1    add address and undefined-behaviour sanitizers
 #   make NAIVE=1  build/naive: naive intersections and epsilons (bench only)
+#   make MINIMAL=1 build/minimal: diffuse-only shading (bench only)
 
 CC      ?= cc
 ifeq ($(NAIVE),1)
@@ -12,6 +13,12 @@ ifeq ($(NAIVE),1)
 # code in make bench; never for rendering.
 BUILD   ?= build/naive
 CPPFLAGS += -DLC_NAIVE
+endif
+ifeq ($(MINIMAL),1)
+# shade_minimal.c instead of shade.c: the diffuse path alone, for pricing
+# the full shading in make bench (NUMERICS.md S7); never for rendering.
+BUILD   ?= build/minimal
+CPPFLAGS += -DLC_MINIMAL
 endif
 BUILD   ?= build
 PKGS    := lua5.4 libpng
@@ -36,7 +43,10 @@ EDIT_LIBS   := $(shell pkg-config --libs libedit 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
 
 # The C core: no Lua header in any of these.
-CORE_SRC := $(filter-out src/lua_%.c src/main.c,$(wildcard src/*.c))
+CORE_SRC := $(filter-out src/lua_%.c src/main.c src/shade_minimal.c,$(wildcard src/*.c))
+ifeq ($(MINIMAL),1)
+CORE_SRC := $(filter-out src/shade.c,$(CORE_SRC)) src/shade_minimal.c
+endif
 CORE_OBJ := $(CORE_SRC:src/%.c=$(BUILD)/obj/%.o)
 LUA_SRC  := $(wildcard src/lua_*.c)
 LUA_OBJ  := $(LUA_SRC:src/%.c=$(BUILD)/obj/%.o)
