@@ -115,9 +115,11 @@ check: all $(C_TESTS)
 	@sh tests/run.sh $(BUILD)
 
 # The peers' files, images and results.md land in out/bench/ (tools/bench/).
-# The naive build prices the robust code (tools/bench/robust.lua).
+# The naive build prices the robust code (tools/bench/robust.lua), the
+# minimal one the full shading (tools/bench/parity.lua).
 bench: all $(BUILD)/bin/lc-runstat
 	@$(MAKE) --no-print-directory NAIVE=1 build/naive/bin/lancer
+	@$(MAKE) --no-print-directory MINIMAL=1 build/minimal/bin/lancer
 	$(BIN) tools/bench/bench.lua $(if $(filter 1,$(QUICK)),quick)
 
 $(BUILD)/bin/lc-runstat: tools/runstat.c

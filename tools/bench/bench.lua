@@ -21,11 +21,13 @@ local tachyon = module("tachyon")
 local run = module("run")
 local report = module("report")
 local robust = module("robust")
+local parity = module("parity")
 
 local ROOT = run.output("cd " .. run.quote(here .. "/../..") .. " && pwd")
 local OUT = ROOT .. "/out/bench"
 local LANCER = ROOT .. "/build/bin/lancer"
 local NAIVE = ROOT .. "/build/naive/bin/lancer"    -- make NAIVE=1
+local MINIMAL = ROOT .. "/build/minimal/bin/lancer" -- make MINIMAL=1
 local RUNSTAT = ROOT .. "/build/bin/lc-runstat"
 
 local QUICK = os.getenv("QUICK") == "1"
@@ -230,10 +232,10 @@ local machine = {
 for key in pairs(ONLY or {}) do
   local known = false
   for _, case in ipairs(CASES) do known = known or case.key == key end
-  known = known or key == "robust"
+  known = known or key == "robust" or key == "parity"
   if not known then
     fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m "
-         .. "robust)", key)
+         .. "robust parity)", key)
   end
 end
 local results = {}
@@ -250,6 +252,16 @@ if not ONLY or ONLY.robust then
       out = OUT, robust = LANCER, naive = NAIVE, runs = QUICK and 3 or 15, say = say}
   else
     say("%s not found: `make bench` builds it (make NAIVE=1)", NAIVE)
+  end
+end
+if not ONLY or ONLY.parity then
+  if run.available(MINIMAL) then
+    say("cost parity (S7)")
+    text = text .. "\n" .. parity.section{run = run, runstat = RUNSTAT, root = ROOT,
+      out = OUT, full = LANCER, minimal = MINIMAL, runs = QUICK and 3 or 15,
+      quick = QUICK, say = say}
+  else
+    say("%s not found: `make bench` builds it (make MINIMAL=1)", MINIMAL)
   end
 end
 io.write(text)
