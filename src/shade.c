@@ -83,12 +83,12 @@ static void log_hit(tracer *t, int i, const lc_hit *h, lc_vec3 n)
 
 /* Adds one light of colour lc seen along unit l with n.l = cosl; while
 ** explaining, also records what it adds to the pixel on shadow record i. */
-static void add_light(const tracer *t, const lc_material *m, lc_vec3 n, lc_vec3 v,
-                      lc_vec3 l, double cosl, radiance lc, light_sum *sum, int i)
+static void add_light(const tracer *t, const lc_material *m, unsigned plan, lc_vec3 n,
+                      lc_vec3 v, lc_vec3 l, double cosl, radiance lc, light_sum *sum, int i)
 {
     radiance d = r_scale(lc, t->cosine ? cosl : 1.0), sp = {0, 0, 0};
     sum->diffuse = r_add(sum->diffuse, d);
-    if (t->plan[m - t->scene->materials] & PLAN_SPECULAR) {
+    if (plan & PLAN_SPECULAR) {
         lc_vec3 R = v3_sub(v3_mul(n, 2 * cosl), l);
         double rv = v3_dot(R, v);
         if (rv > 0) {
@@ -107,8 +107,8 @@ static void add_light(const tracer *t, const lc_material *m, lc_vec3 n, lc_vec3 
     }
 }
 
-static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n,
-                         lc_vec3 v, light_sum *sum)
+static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, unsigned plan,
+                         lc_vec3 n, lc_vec3 v, light_sum *sum)
 {
     const lc_scene *s = t->scene;
     double tooclose2 = 16 * v3_dot(h->perr, h->perr);
@@ -144,7 +144,7 @@ static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, lc_ve
         double k = L->intensity;
         if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)
             k /= d * d;
-        add_light(t, m, n, v, l, cosl, r_scale(rad(L->color), cap(k)), sum, rec);
+        add_light(t, m, plan, n, v, l, cosl, r_scale(rad(L->color), cap(k)), sum, rec);
     }
 }
 
@@ -152,8 +152,8 @@ static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, lc_ve
 ** meets the shape itself (or nothing) first. The light colour is E/(pi cos),
 ** E the irradiance of the whole shape seen from the point: exact for a
 ** sphere (pi L (r/d)^2 cos), projected area over d^2 for quads and boxes. */
-static void emitters(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n,
-                     lc_vec3 v, light_sum *sum)
+static void emitters(tracer *t, const lc_hit *h, const lc_material *m, unsigned plan,
+                     lc_vec3 n, lc_vec3 v, light_sum *sum)
 {
     const lc_scene *s = t->scene;
     double tooclose = 4 * v3_len(h->perr);
@@ -202,7 +202,7 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n
         }
         if (k > 1)                  /* no shape gives more than its radiance */
             k = 1;
-        add_light(t, m, n, v, l, cosl, r_scale(rad(e->emission), k), sum, rec);
+        add_light(t, m, plan, n, v, l, cosl, r_scale(rad(e->emission), k), sum, rec);
     }
 }
 
@@ -251,9 +251,9 @@ radiance trace_ray(tracer *t, const lc_ray *r0, int depth)
         light_sum sum = {{0, 0, 0}, {0, 0, 0}};
         if (plan & PLAN_LIGHTS) {
             if (t->needs & LC_NEED_SHADOW)
-                point_lights(t, &h, m, n, v, &sum);
+                point_lights(t, &h, m, plan, n, v, &sum);
             if (t->needs & LC_NEED_EMITTER)
-                emitters(t, &h, m, n, v, &sum);
+                emitters(t, &h, m, plan, n, v, &sum);
         }
 
         radiance base = r_scale(sum.diffuse, m->kd);             /* kd Cd */
