@@ -1,0 +1,152 @@
+/* lua_image.c: images: saving, loading, reading pixels, comparing. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <lauxlib.h>
+#include <lua.h>
+#include "lancer.h"
+#include "lua_fields.h"
+#include "lua_types.h"
+
+/* ---- images --------------------------------------------------------------- */
+
+static lc_image *check_image(lua_State *L, int idx)
+{
+    ud_image *u = luaL_checkudata(L, idx, IMAGE);
+    if (!u->img)
+        luaL_argerror(L, idx, "lancer.Image already freed");
+    return u->img;
+}
+
+static int w_image_free(lua_State *L)              /* __gc and __close */
+{
+    ud_image *u = luaL_checkudata(L, 1, IMAGE);
+    lc_image_free(u->img);
+    u->img = NULL;                                  /* safe to call twice */
+    return 0;
+}
+
+static const char *const encoding_opts[] = {"srgb", "linear", NULL};
+
+static int w_image_save(lua_State *L)
+{
+    static const char *const known[] = {"encoding", NULL};
+    lc_image *img = check_image(L, 1);
+    luaL_checktype(L, 2, LUA_TSTRING);       /* a number is no file name */
+    const char *path = lua_tostring(L, 2);
+    lc_encoding enc = LC_ENCODE_SRGB;
+    if (!lua_isnoneornil(L, 3)) {
+        lf_open(L, 3, known);
+        enc = (lc_encoding)lf_option(L, 3, "encoding", encoding_opts, 0);
+    }
+    lc_error err;
+    if (lc_image_save_png(img, path, enc, &err))
+        return luaL_argerror(L, 2, err.msg);     /* names 'save' and the path */
+    lua_settop(L, 1);
+    return 1;
+}
+
+static int w_load_png(lua_State *L)
+{
+    static const char *const known[] = {"encoding", NULL};
+    luaL_checktype(L, 1, LUA_TSTRING);
+    lc_encoding enc = LC_ENCODE_SRGB;
+    if (!lua_isnoneornil(L, 2)) {
+        lf_open(L, 2, known);
+        enc = (lc_encoding)lf_option(L, 2, "encoding", encoding_opts, 0);
+    }
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    ui->img = NULL;
+    luaL_setmetatable(L, IMAGE);
+    lc_error err;
+    ui->img = lc_image_load_png(lua_tostring(L, 1), enc, &err);
+    if (!ui->img)
+        return luaL_argerror(L, 1, err.msg);
+    return 1;
+}
+
+static int w_image_diff(lua_State *L)
+{
+    lc_image *a = check_image(L, 1), *b = check_image(L, 2);
+    double tol = luaL_optnumber(L, 3, 1.0 / 255);
+    if (!(tol >= 0))
+        return luaL_argerror(L, 3, "tolerance must be >= 0");
+    lc_image_diff d;
+    lc_error err;
+    if (lc_image_compare(a, b, tol, &d, &err))
+        return luaL_argerror(L, 2, err.msg);
+    lua_createtable(L, 0, 5);
+    lua_pushnumber(L, d.mean_abs);
+    lua_setfield(L, -2, "mean");
+    lua_pushnumber(L, d.max_abs);
+    lua_setfield(L, -2, "max");
+    lua_pushnumber(L, d.within);
+    lua_setfield(L, -2, "within");
+    lua_pushinteger(L, d.worst_x + 1);
+    lua_setfield(L, -2, "worst_x");
+    lua_pushinteger(L, d.worst_y + 1);
+    lua_setfield(L, -2, "worst_y");
+    return 1;
+}
+
+static int w_image_nonfinite(lua_State *L)
+{
+    lua_pushinteger(L, (lua_Integer)lc_image_nonfinite(check_image(L, 1)));
+    return 1;
+}
+
+static int w_image_pixel(lua_State *L)
+{
+    lc_image *img = check_image(L, 1);
+    lua_Integer x = luaL_checkinteger(L, 2), y = luaL_checkinteger(L, 3);
+    int w = lc_image_width(img), h = lc_image_height(img);
+    if (x < 1 || x > w)
+        return luaL_argerror(L, 2, lua_pushfstring(L, "x must be in [1, %d], got %I", w, x));
+    if (y < 1 || y > h)
+        return luaL_argerror(L, 3, lua_pushfstring(L, "y must be in [1, %d], got %I", h, y));
+    lc_color c = lc_image_get(img, (int)x - 1, (int)y - 1);
+    lua_pushnumber(L, c.r);
+    lua_pushnumber(L, c.g);
+    lua_pushnumber(L, c.b);
+    return 3;
+}
+
+static int w_image_tostring(lua_State *L)
+{
+    ud_image *u = luaL_checkudata(L, 1, IMAGE);
+    if (!u->img)
+        lua_pushstring(L, "lancer.Image (freed)");
+    else
+        lua_pushfstring(L, "lancer.Image %dx%d", lc_image_width(u->img),
+                        lc_image_height(u->img));
+    return 1;
+}
+
+static int w_image_index(lua_State *L)
+{
+    const char *k = luaL_checkstring(L, 2);
+    if (strcmp(k, "width") == 0) {
+        lua_pushinteger(L, lc_image_width(check_image(L, 1)));
+    } else if (strcmp(k, "height") == 0) {
+        lua_pushinteger(L, lc_image_height(check_image(L, 1)));
+    } else {
+        luaL_getmetafield(L, 1, "methods");
+        lua_getfield(L, -1, k);
+    }
+    return 1;
+}
+
+
+void image_register(lua_State *L)
+{
+    static const luaL_Reg image_meta[] = {
+        {"__gc", w_image_free}, {"__close", w_image_free}, {"__tostring", w_image_tostring},
+        {"__index", w_image_index}, {NULL, NULL}};
+    static const luaL_Reg image_methods[] = {
+        {"save", w_image_save}, {"pixel", w_image_pixel}, {"diff", w_image_diff},
+        {"nonfinite", w_image_nonfinite}, {NULL, NULL}};
+    binding_class(L, IMAGE, image_meta, image_methods);
+    lua_pushcfunction(L, w_load_png);
+    lua_setfield(L, -2, "load_png");
+}

@@ -1,0 +1,311 @@
+/* lua_mesh.c: triangle meshes: lancer.mesh, lancer.triangle, lancer.load_obj. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <lauxlib.h>
+#include <lua.h>
+#include "lancer.h"
+#include "lua_fields.h"
+#include "lua_types.h"
+
+/* ---- meshes --------------------------------------------------------------- */
+
+#define CHUNK 1024    /* items converted per call into the core */
+
+static lc_mesh *check_mesh(lua_State *L, int idx)
+{
+    ud_mesh *u = luaL_checkudata(L, idx, MESH);
+    if (!u->m)
+        luaL_error(L, "lancer.Mesh already freed");
+    return u->m;
+}
+
+/* Reads a list of points into the mesh: nested {{x, y, z}, ...} or flat
+** {x, y, z, x, y, z, ...} (the fast path for large arrays). `field` names
+** it in errors; arg is the argument holding the list's table, or the list. */
+static void read_points(lua_State *L, int arg, int list, lc_mesh *m, int normals,
+                        const char *field)
+{
+    double buf[3 * CHUNK];
+    size_t nb = 0;
+    lc_error err;
+    list = lua_absindex(L, list);
+    if (lua_type(L, list) != LUA_TTABLE)
+        lf_error(L, arg, field, "table of points expected, got %s", luaL_typename(L, list));
+    lua_Integer n = luaL_len(L, list);
+    int flat = n > 0 && lua_geti(L, list, 1) == LUA_TNUMBER;
+    if (n > 0)
+        lua_pop(L, 1);
+    if (flat && n % 3 != 0)
+        lf_error(L, arg, field, "flat list length must be a multiple of 3, got %lld",
+                 (long long)n);
+    lua_Integer count = flat ? n / 3 : n;
+    for (lua_Integer i = 1; i <= count; i++) {
+        if (flat) {
+            for (int k = 0; k < 3; k++) {
+                if (lua_geti(L, list, 3 * (i - 1) + k + 1) != LUA_TNUMBER)
+                    lf_error(L, arg, field, "entry %lld: number expected, got %s",
+                             (long long)(3 * (i - 1) + k + 1), luaL_typename(L, -1));
+                double x = lua_tonumber(L, -1);
+                lua_pop(L, 1);
+                if (!isfinite(x))
+                    lf_error(L, arg, field, "entry %lld: must be finite, got %g",
+                             (long long)(3 * (i - 1) + k + 1), x);
+                buf[3 * nb + k] = x;
+            }
+        } else {
+            char why[160];
+            lc_vec3 v;
+            lua_geti(L, list, i);
+            if (!lf_to_vec3(L, -1, &v, why, sizeof why))
+                lf_error(L, arg, field, "point %lld: %s", (long long)i, why);
+            lua_pop(L, 1);
+            buf[3 * nb] = v.x;
+            buf[3 * nb + 1] = v.y;
+            buf[3 * nb + 2] = v.z;
+        }
+        if (++nb == CHUNK || i == count) {
+            lc_status st = normals ? lc_mesh_add_normals(m, buf, nb, &err)
+                                   : lc_mesh_add_vertices(m, buf, nb, &err);
+            if (st)
+                lf_error(L, arg, field, "%s", err.msg);
+            nb = 0;
+        }
+    }
+}
+
+static uint32_t face_index(lua_State *L, int arg, const char *field, lua_Integer face,
+                           size_t nv)
+{
+    int isint;
+    lua_Integer k = lua_tointegerx(L, -1, &isint);
+    if (!isint)
+        lf_error(L, arg, field, "face %lld: integer vertex index expected, got %s",
+                 (long long)face, luaL_tolstring(L, -1, NULL));
+    if (k < 1 || (size_t)k > nv)
+        lf_error(L, arg, field, "face %lld: vertex index %lld out of range [1, %zu]",
+                 (long long)face, (long long)k, nv);
+    lua_pop(L, 1);
+    return (uint32_t)(k - 1);
+}
+
+/* Faces: nested {{a, b, c}, {a, b, c, d}, ...} (polygons become fans) or flat
+** {a, b, c, a, b, c, ...}; indices start at 1, as Lua's do. */
+static void read_faces(lua_State *L, int arg, int list, lc_mesh *m, const char *field)
+{
+    uint32_t buf[3 * CHUNK];
+    size_t nb = 0;
+    lc_error err;
+    size_t nv = lc_mesh_vertex_count(m);
+    list = lua_absindex(L, list);
+    if (lua_type(L, list) != LUA_TTABLE)
+        lf_error(L, arg, field, "table of faces expected, got %s", luaL_typename(L, list));
+    lua_Integer n = luaL_len(L, list);
+    int flat = n > 0 && lua_geti(L, list, 1) == LUA_TNUMBER;
+    if (n > 0)
+        lua_pop(L, 1);
+    if (flat && n % 3 != 0)
+        lf_error(L, arg, field, "flat list length must be a multiple of 3, got %lld",
+                 (long long)n);
+    lua_Integer count = flat ? n / 3 : n;
+    for (lua_Integer i = 1; i <= count; i++) {
+        if (flat) {
+            for (int k = 0; k < 3; k++) {
+                lua_geti(L, list, 3 * (i - 1) + k + 1);
+                buf[3 * nb + k] = face_index(L, arg, field, i, nv);
+            }
+            nb++;
+        } else {
+            if (lua_geti(L, list, i) != LUA_TTABLE)
+                lf_error(L, arg, field, "face %lld: table of vertex indices expected, got %s",
+                         (long long)i, luaL_typename(L, -1));
+            int f = lua_gettop(L);
+            lua_Integer corners = luaL_len(L, f);
+            if (corners < 3)
+                lf_error(L, arg, field, "face %lld: at least 3 vertices expected, got %lld",
+                         (long long)i, (long long)corners);
+            lua_geti(L, f, 1);
+            uint32_t first = face_index(L, arg, field, i, nv);
+            lua_geti(L, f, 2);
+            uint32_t prev = face_index(L, arg, field, i, nv);
+            for (lua_Integer c = 3; c <= corners; c++) {
+                lua_geti(L, f, c);
+                uint32_t cur = face_index(L, arg, field, i, nv);
+                buf[3 * nb] = first;
+                buf[3 * nb + 1] = prev;
+                buf[3 * nb + 2] = cur;
+                prev = cur;
+                if (++nb == CHUNK) {
+                    if (lc_mesh_add_faces(m, buf, nb, &err))
+                        lf_error(L, arg, field, "%s", err.msg);
+                    nb = 0;
+                }
+            }
+            lua_pop(L, 1);
+            continue;
+        }
+        if (nb == CHUNK) {
+            if (lc_mesh_add_faces(m, buf, nb, &err))
+                lf_error(L, arg, field, "%s", err.msg);
+            nb = 0;
+        }
+    }
+    if (nb && lc_mesh_add_faces(m, buf, nb, &err))
+        lf_error(L, arg, field, "%s", err.msg);
+}
+
+/* Pushes an empty mesh userdata (before the core mesh, so nothing leaks if
+** allocation fails) with the material at stack index mat (or nil). */
+static lc_mesh *push_mesh(lua_State *L, int mat)
+{
+    mat = lua_absindex(L, mat);
+    ud_mesh *u = lua_newuserdatauv(L, sizeof *u, 1);
+    u->m = NULL;
+    luaL_setmetatable(L, MESH);
+    lua_pushvalue(L, mat);
+    lua_setiuservalue(L, -2, 1);
+    lc_error err;
+    u->m = lc_mesh_new(&err);
+    if (!u->m)
+        luaL_error(L, "%s", err.msg);
+    return u->m;
+}
+
+static int w_mesh(lua_State *L)
+{
+    static const char *const known[] = {"vertices", "faces", "normals", "material", NULL};
+    if (lua_isnoneornil(L, 1)) {
+        lua_settop(L, 0);
+        lua_newtable(L);
+    }
+    lf_open(L, 1, known);
+    lf_udata(L, 1, "material", MATERIAL, 0);
+    int mat = lua_gettop(L);
+    lc_mesh *m = push_mesh(L, mat);
+    int top = lua_gettop(L);
+    if (lua_getfield(L, 1, "vertices") != LUA_TNIL)
+        read_points(L, 1, -1, m, 0, "vertices");
+    lua_settop(L, top);
+    if (lua_getfield(L, 1, "normals") != LUA_TNIL)
+        read_points(L, 1, -1, m, 1, "normals");
+    lua_settop(L, top);
+    if (lua_getfield(L, 1, "faces") != LUA_TNIL)
+        read_faces(L, 1, -1, m, "faces");
+    lua_settop(L, top);
+    return 1;
+}
+
+static int w_triangle(lua_State *L)
+{
+    static const char *const known[] = {"a", "b", "c", "material", NULL};
+    lf_open(L, 1, known);
+    lc_vec3 z = {0, 0, 0};
+    lc_vec3 a = lf_vec3(L, 1, "a", 1, z), b = lf_vec3(L, 1, "b", 1, z);
+    lc_vec3 c = lf_vec3(L, 1, "c", 1, z);
+    lf_udata(L, 1, "material", MATERIAL, 0);
+    lc_mesh *m = push_mesh(L, -1);
+    double v[9] = {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
+    uint32_t f[3] = {0, 1, 2};
+    lc_error err;
+    if (lc_mesh_add_vertices(m, v, 3, &err) || lc_mesh_add_faces(m, f, 1, &err))
+        return luaL_error(L, "%s", err.msg);
+    return 1;
+}
+
+static int w_load_obj(lua_State *L)
+{
+    static const char *const known[] = {"material", NULL};
+    const char *path = luaL_checkstring(L, 1);
+    if (!lua_isnoneornil(L, 2)) {
+        lf_open(L, 2, known);
+        lf_udata(L, 2, "material", MATERIAL, 0);
+    } else {
+        lua_settop(L, 1);
+        lua_pushnil(L);
+    }
+    ud_mesh *u = lua_newuserdatauv(L, sizeof *u, 1);
+    u->m = NULL;
+    luaL_setmetatable(L, MESH);
+    lua_pushvalue(L, -2);
+    lua_setiuservalue(L, -2, 1);
+    lc_error err;
+    u->m = lc_mesh_load_obj(path, &err);
+    if (!u->m)
+        return luaL_argerror(L, 1, err.msg);     /* names 'load_obj', the file, the line */
+    return 1;
+}
+
+static int w_mesh_add_vertices(lua_State *L)
+{
+    lc_mesh *m = check_mesh(L, 1);
+    read_points(L, 2, 2, m, 0, "vertices");
+    lua_pushinteger(L, (lua_Integer)lc_mesh_vertex_count(m));
+    return 1;
+}
+
+static int w_mesh_add_normals(lua_State *L)
+{
+    lc_mesh *m = check_mesh(L, 1);
+    read_points(L, 2, 2, m, 1, "normals");
+    return 0;
+}
+
+static int w_mesh_add_faces(lua_State *L)
+{
+    lc_mesh *m = check_mesh(L, 1);
+    read_faces(L, 2, 2, m, "faces");
+    lua_pushinteger(L, (lua_Integer)lc_mesh_face_count(m));
+    return 1;
+}
+
+static int w_mesh_free(lua_State *L)              /* __gc and __close */
+{
+    ud_mesh *u = luaL_checkudata(L, 1, MESH);
+    lc_mesh_free(u->m);                          /* scenes keep their own hold */
+    u->m = NULL;
+    return 0;
+}
+
+static int w_mesh_tostring(lua_State *L)
+{
+    ud_mesh *u = luaL_checkudata(L, 1, MESH);
+    if (!u->m)
+        lua_pushstring(L, "lancer.Mesh (freed)");
+    else
+        lua_pushfstring(L, "lancer.Mesh (%d vertices, %d faces)",
+                        (int)lc_mesh_vertex_count(u->m), (int)lc_mesh_face_count(u->m));
+    return 1;
+}
+
+static int w_mesh_index(lua_State *L)
+{
+    const char *k = luaL_checkstring(L, 2);
+    if (strcmp(k, "vertex_count") == 0) {
+        lua_pushinteger(L, (lua_Integer)lc_mesh_vertex_count(check_mesh(L, 1)));
+    } else if (strcmp(k, "face_count") == 0) {
+        lua_pushinteger(L, (lua_Integer)lc_mesh_face_count(check_mesh(L, 1)));
+    } else if (strcmp(k, "material") == 0) {
+        lua_getiuservalue(L, 1, 1);
+    } else {
+        luaL_getmetafield(L, 1, "methods");
+        lua_getfield(L, -1, k);
+    }
+    return 1;
+}
+
+
+void mesh_register(lua_State *L)
+{
+    static const luaL_Reg mesh_meta[] = {
+        {"__gc", w_mesh_free}, {"__close", w_mesh_free}, {"__tostring", w_mesh_tostring},
+        {"__index", w_mesh_index}, {NULL, NULL}};
+    static const luaL_Reg mesh_methods[] = {
+        {"add_vertices", w_mesh_add_vertices}, {"add_faces", w_mesh_add_faces},
+        {"add_normals", w_mesh_add_normals}, {NULL, NULL}};
+    static const luaL_Reg funcs[] = {
+        {"mesh", w_mesh}, {"triangle", w_triangle}, {"load_obj", w_load_obj},
+        {NULL, NULL}};
+    binding_class(L, MESH, mesh_meta, mesh_methods);
+    luaL_setfuncs(L, funcs, 0);
+}
