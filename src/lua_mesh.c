@@ -21,6 +21,25 @@ static lc_mesh *check_mesh(lua_State *L, int idx)
     return u->m;
 }
 
+/* How many items the list at index `list` holds: a nested list {{...}, ...}
+** counts its entries, a flat one {a, b, c, ...} its entries over 3 (*flat
+** says which). `what` names the items in the error for a non-table. */
+static lua_Integer list_count(lua_State *L, int arg, int list, const char *field,
+                              const char *what, int *flat)
+{
+    if (lua_type(L, list) != LUA_TTABLE)
+        lf_error(L, arg, field, "table of %s expected, got %s", what,
+                 luaL_typename(L, list));
+    lua_Integer n = luaL_len(L, list);
+    *flat = n > 0 && lua_geti(L, list, 1) == LUA_TNUMBER;
+    if (n > 0)
+        lua_pop(L, 1);
+    if (*flat && n % 3 != 0)
+        lf_error(L, arg, field, "flat list length must be a multiple of 3, got %lld",
+                 (long long)n);
+    return *flat ? n / 3 : n;
+}
+
 /* Reads a list of points into the mesh: nested {{x, y, z}, ...} or flat
 ** {x, y, z, x, y, z, ...} (the fast path for large arrays). `field` names
 ** it in errors; arg is the argument holding the list's table, or the list. */
@@ -30,17 +49,9 @@ static void read_points(lua_State *L, int arg, int list, lc_mesh *m, int normals
     double buf[3 * CHUNK];
     size_t nb = 0;
     lc_error err;
+    int flat;
     list = lua_absindex(L, list);
-    if (lua_type(L, list) != LUA_TTABLE)
-        lf_error(L, arg, field, "table of points expected, got %s", luaL_typename(L, list));
-    lua_Integer n = luaL_len(L, list);
-    int flat = n > 0 && lua_geti(L, list, 1) == LUA_TNUMBER;
-    if (n > 0)
-        lua_pop(L, 1);
-    if (flat && n % 3 != 0)
-        lf_error(L, arg, field, "flat list length must be a multiple of 3, got %lld",
-                 (long long)n);
-    lua_Integer count = flat ? n / 3 : n;
+    lua_Integer count = list_count(L, arg, list, field, "points", &flat);
     for (lua_Integer i = 1; i <= count; i++) {
         if (flat) {
             for (int k = 0; k < 3; k++) {
@@ -98,17 +109,9 @@ static void read_faces(lua_State *L, int arg, int list, lc_mesh *m, const char *
     size_t nb = 0;
     lc_error err;
     size_t nv = lc_mesh_vertex_count(m);
+    int flat;
     list = lua_absindex(L, list);
-    if (lua_type(L, list) != LUA_TTABLE)
-        lf_error(L, arg, field, "table of faces expected, got %s", luaL_typename(L, list));
-    lua_Integer n = luaL_len(L, list);
-    int flat = n > 0 && lua_geti(L, list, 1) == LUA_TNUMBER;
-    if (n > 0)
-        lua_pop(L, 1);
-    if (flat && n % 3 != 0)
-        lf_error(L, arg, field, "flat list length must be a multiple of 3, got %lld",
-                 (long long)n);
-    lua_Integer count = flat ? n / 3 : n;
+    lua_Integer count = list_count(L, arg, list, field, "faces", &flat);
     for (lua_Integer i = 1; i <= count; i++) {
         if (flat) {
             for (int k = 0; k < 3; k++) {
