@@ -3,9 +3,9 @@
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 #include "error.h"
 #include "scene.h"
+#include "clock.h"
 
 void compiled_free(compiled *c)
 {
@@ -13,13 +13,6 @@ void compiled_free(compiled *c)
     free(c->tris);
     bvh_free(&c->bvh);
     memset(c, 0, sizeof *c);
-}
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
 /* A bound one ulp outside the double it comes from, then rounded outward to
@@ -250,7 +243,7 @@ lc_status scene_compile(lc_scene *s, const lc_render_options *o, lc_error *err)
     size_t faces = 0;
     for (size_t i = 0; i < s->nmeshes; i++)
         faces += s->meshes[i].mesh->nf;
-    double t0 = now();
+    double t0 = clock_seconds();
     if (!c->valid || c->faces_seen != faces) {     /* geometry changed since */
         compiled_free(c);
         lc_status st = list_triangles(s, err);
@@ -266,7 +259,7 @@ lc_status scene_compile(lc_scene *s, const lc_render_options *o, lc_error *err)
         compiled_free(c);
         return LC_ENOMEM;
     }
-    c->seconds = now() - t0;
+    c->seconds = clock_seconds() - t0;
     lc_ok(err);
     return LC_OK;
 }

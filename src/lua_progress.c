@@ -2,20 +2,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 #include "lua_progress.h"
+#include "clock.h"
 
 #define DELAY   1.0    /* when automatic, short renders stay quiet */
 #define REDRAW  0.1    /* at most ten redraws a second */
 #define WIDTH   30
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 void lua_progress_begin(lua_progress *p, int enabled)
 {
@@ -26,13 +19,13 @@ void lua_progress_begin(lua_progress *p, int enabled)
         enabled = isatty(STDERR_FILENO) && !(term && strcmp(term, "dumb") == 0);
     }
     p->enabled = enabled;
-    p->start = p->last = now();
+    p->start = p->last = clock_seconds();
 }
 
 int lua_progress_update(void *ud, double done)
 {
     lua_progress *p = ud;
-    double t = now(), elapsed = t - p->start;
+    double t = clock_seconds(), elapsed = t - p->start;
     if (!p->enabled || elapsed < p->delay || (p->shown && t - p->last < REDRAW))
         return 0;
     p->last = t;

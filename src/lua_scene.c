@@ -3,20 +3,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <lauxlib.h>
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
 #include "lua_types.h"
 #include "lua_progress.h"
-
-static double monotonic(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
+#include "clock.h"
 
 /* Mirror bounces: the chain is a loop, so this only bounds the time a
 ** render of two facing mirrors may take. */
@@ -97,7 +90,7 @@ static int w_scene(lua_State *L)
     lua_setiuservalue(L, sidx, 1);
     lc_error err;
     u->s = lc_scene_new(&err);
-    u->mark = monotonic();
+    u->mark = clock_seconds();
     if (!u->s)
         return luaL_error(L, "%s", err.msg);
     if (lc_scene_configure(u->s, &st, &err))
@@ -252,7 +245,7 @@ static int w_scene_transformed(lua_State *L)
         return luaL_argerror(L, 3, why);
     ud_scene *c = lua_newuserdatauv(L, sizeof *c, 1);      /* before the copy */
     c->s = NULL;
-    c->mark = monotonic();
+    c->mark = clock_seconds();
     luaL_setmetatable(L, SCENE);
     int ci = lua_gettop(L);
     lua_createtable(L, 3, 0);
@@ -448,9 +441,9 @@ static int w_scene_render(lua_State *L)
     lua_progress_begin(&bar, show);
     o.progress = lua_progress_update;
     o.progress_ud = &bar;
-    double lua_seconds = monotonic() - u->mark;
+    double lua_seconds = clock_seconds() - u->mark;
     ui->img = lc_scene_render(u->s, &o, &st, &err);
-    u->mark = monotonic();
+    u->mark = clock_seconds();
     lua_progress_end(&bar);
     if (!ui->img) {
         if (strcmp(err.field, "camera") == 0)

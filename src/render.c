@@ -2,13 +2,13 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 #include "camera.h"
 #include "error.h"
 #include "image.h"
 #include "rng.h"
 #include "shade.h"
+#include "clock.h"
 
 #define TILE 16
 #define MAX_THREADS 256
@@ -45,13 +45,6 @@ const char *lc_need_name(unsigned need)
     case LC_NEED_AMBIENT: return "ambient";
     default: return "?";
     }
-}
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
 static lc_status check_options(const lc_render_options *o, lc_error *err);
@@ -225,10 +218,10 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         lc_fail(err, LC_EARG, "camera", "the scene has no camera");
         return NULL;
     }
-    double t0 = now();
+    double t0 = clock_seconds();
     if (scene_compile(s, o, err))
         return NULL;
-    double t1 = now();
+    double t1 = clock_seconds();
     lc_image *img = lc_image_new(o->width, o->height, err);
     if (!img)
         return NULL;
@@ -305,7 +298,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     pthread_mutex_unlock(&j.lock);
     for (int i = 0; i < started; i++)
         pthread_join(ws[i].thread, NULL);
-    double t2 = now();
+    double t2 = clock_seconds();
 
     lc_stats sum;
     memset(&sum, 0, sizeof sum);

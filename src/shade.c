@@ -5,12 +5,6 @@
 
 #define PI 3.14159265358979323846
 
-/* Shadow rays stop this fraction short of their target, so a light sitting
-** exactly on a surface is not hidden by that surface. Relative, hence the
-** same at every scale (pbrt-v4's ShadowEpsilon, tighter because we are in
-** double). Tested by the light-on-surface cases. */
-#define SHADOW_SHORTEN 1e-9
-
 typedef struct {
     radiance diffuse;     /* sum of Lc * (n.l) */
     radiance specular;    /* sum of Lc * (R.V)^alpha */

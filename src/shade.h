@@ -37,6 +37,12 @@ typedef struct { double r, g, b; } radiance;
 ** with a zero would be a NaN pixel. */
 #define RADIANCE_CAP 1e100
 
+/* Shadow rays stop this fraction short of their target, so a light sitting
+** exactly on a surface is not hidden by that surface. Relative, hence the
+** same at every scale (pbrt-v4's ShadowEpsilon, tighter because we are in
+** double). Tested by the light-on-surface cases. */
+#define SHADOW_SHORTEN 1e-9
+
 radiance trace_ray(tracer *t, const lc_ray *r, int depth);
 
 /* explain: appends a record of ray r (its parent and kind); -1 if it cannot. */

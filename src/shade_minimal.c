@@ -19,8 +19,6 @@
 #error "shade_minimal.c replaces shade.c only in the MINIMAL=1 build"
 #endif
 
-/* As in shade.c: shadow rays stop this fraction short of the light. */
-#define SHADOW_SHORTEN 1e-9
 
 radiance trace_ray(tracer *t, const lc_ray *r, int depth)
 {
