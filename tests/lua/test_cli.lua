@@ -205,8 +205,10 @@ local function repl(steps, home, args)
     end
   end
   local env = home and "HOME=" .. q(home) or "env -u HOME"
+  -- script runs "$SHELL -c CMD"; exec leaves no shell behind to die of the
+  -- SIGINT the terminal sends its whole foreground group (dash would).
   local cmd = ("(%s) | %s TERM=dumb timeout 30 script -qfec %s /dev/null"):format(
-    table.concat(feed, "; "), env, q(T.lancer .. (args or "")))
+    table.concat(feed, "; "), env, q("exec " .. q(T.lancer) .. (args or "")))
   local out, err, code = T.run(cmd)
   assert(code ~= 127, "cannot run util-linux 'script': " .. err)
   check_exit(code, 0, out, err)
