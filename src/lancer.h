@@ -40,9 +40,14 @@ typedef struct {
     double    alpha;     /* Phong exponent, >= 0 */
     lc_color  emission;  /* radiance emitted; > 0 makes the shape a light */
     lc_absorb absorb;
+    double    glossiness;   /* the seed's diffusion cone: half-angle in degrees of
+                            ** the cone of reflected rays, in [0, 90); 0 = mirror */
+    int       cone_samples; /* rays over the cone at the first glossy hit, >= 1 */
 } lc_material;
 
-lc_material lc_material_default(void);                  /* white, kd 1, rest 0 */
+#define LC_MAX_CONE_SAMPLES 4096
+
+lc_material lc_material_default(void);  /* white, kd 1, rest 0; 16 cone samples */
 lc_status   lc_material_check(const lc_material *m, lc_error *err);
 
 /* ---- Shapes ---------------------------------------------------------------- */
@@ -92,6 +97,8 @@ lc_status lc_point_light_check(const lc_point_light *l, lc_error *err);
 typedef struct {
     lc_vec3 from, at, up;
     double  fov;          /* horizontal field of view in degrees, in (0, 180) */
+    double  aperture;     /* thin lens diameter; 0 = pinhole, all in focus */
+    double  focus;        /* distance from `from` to the sharp plane; 0 = to `at` */
 } lc_camera;
 
 lc_status lc_camera_check(const lc_camera *c, lc_error *err);
@@ -105,6 +112,8 @@ typedef struct {
     lc_color ambient;     /* Ia: ka * C * Ia is added at every hit */
     int      max_depth;   /* mirror bounces, >= 0; the seed used 3 */
 } lc_settings;
+
+#define LC_MAX_DEPTH 1000000
 
 lc_settings lc_settings_default(void);                  /* black, none, 3 */
 
@@ -138,11 +147,18 @@ enum {
     LC_NEED_SPECULAR = 1 << 2,   /* some material has ks > 0 and there are lights */
     LC_NEED_REFLECT  = 1 << 3,   /* some material has kr > 0 and max_depth > 0 */
     LC_NEED_AMBIENT  = 1 << 4,   /* ambient light and some ka > 0 */
-    LC_NEEDS         = 5         /* how many: bit k is 1 << k */
+    LC_NEED_GLOSSY   = 1 << 5,   /* some material has kr > 0 and a diffusion cone */
+    LC_NEED_AREA     = 1 << 6,   /* emissive shapes sampled as area lights */
+    LC_NEED_LENS     = 1 << 7,   /* the camera has an aperture: depth of field */
+    LC_NEEDS         = 8         /* how many: bit k is 1 << k */
 };
 
 typedef enum {
-    LC_RAY_CAMERA, LC_RAY_SHADOW, LC_RAY_REFLECTION,
+    LC_RAY_CAMERA,
+    LC_RAY_SHADOW,       /* toward point lights, and emitters' centres when light_samples = 0 */
+    LC_RAY_REFLECTION,   /* perfect mirror bounces */
+    LC_RAY_GLOSSY,       /* bounces inside a diffusion cone */
+    LC_RAY_LIGHT,        /* shadow rays toward sampled points of area lights */
     LC_RAY_CUT,          /* reflections not traced: their weight fell below the cutoff */
     LC_RAY_KINDS
 } lc_ray_kind;
@@ -154,10 +170,27 @@ const char *lc_need_name(unsigned need);                /* "shadow", ... */
 ** share of tiles done; a nonzero return stops the render with LC_ECANCEL. */
 typedef int (*lc_progress_fn)(void *ud, double done);
 
+/* How the samples of one pixel are spread over each 2D dimension (pixel
+** area, lens, cone, light): an Owen-scrambled Sobol' sequence (stratified
+** at every prefix: what adaptive sampling needs), a jittered grid, or
+** independent uniform numbers (the baseline stratification is measured by). */
+typedef enum { LC_SAMPLER_SOBOL, LC_SAMPLER_JITTER, LC_SAMPLER_RANDOM } lc_sampler;
+
 typedef struct {
     int      width, height;  /* pixels, each in [1, LC_MAX_SIDE] */
-    int      samples;        /* camera rays per pixel, >= 1; 1 = pixel centre */
-    uint64_t seed;           /* every random number depends on it */
+    int      samples;        /* camera rays per pixel, >= 1; 1 = pixel centre (with
+                             ** no lens); with noise > 0, the most a pixel takes */
+    uint64_t seed;           /* every random number depends on it ... */
+    uint32_t frame;          /* ... and on the animation frame */
+    lc_sampler sampler;
+    int      light_samples;  /* points sampled on each emissive shape at each hit;
+                             ** 0: one ray to its centre (the seed's hard shadows) */
+    int      cone_samples;   /* > 0: overrides every glossy material's count */
+    int      max_depth;      /* >= 0: overrides the scene's; -1: the scene's */
+    double   noise;          /* > 0: adaptive sampling: a pixel stops once its
+                             ** estimated relative error is below this */
+    int      min_samples;    /* adaptive: samples before the first check, >= 1 */
+    int      glossy;         /* 0: diffusion cones become perfect mirrors */
     int      threads;        /* 0 = one per core */
     int      cosine;         /* 0 drops the n.l factor (the seed's figure 7) */
     double   cutoff;         /* a reflection whose weight (the product of kr, and of
@@ -175,13 +208,18 @@ typedef struct {
 #define LC_MAX_SIDE   65536
 #define LC_MAX_PIXELS ((size_t)1 << 28)  /* 268M pixels, 3 GiB of floats */
 
-lc_render_options lc_render_options_default(void);     /* 640x480, 1 sample */
+#define LC_MAX_LIGHT_SAMPLES 4096
+
+/* 640x480, 1 sample, Sobol', 16 light samples, cutoff 1/255, every effect on */
+lc_render_options lc_render_options_default(void);
+lc_status lc_render_options_check(const lc_render_options *o, lc_error *err);
 
 typedef struct {
     double   seconds;            /* compile + trace */
     double   compile_seconds;
     double   trace_seconds;
     uint64_t rays[LC_RAY_KINDS];
+    uint64_t samples;            /* camera samples over all pixels */
     unsigned needs;              /* LC_NEED_* bits */
     int      threads;
     size_t   bvh_nodes;          /* nodes of the hierarchy over bounded shapes */
@@ -191,7 +229,7 @@ typedef struct {
                                  ** 0 unless the geometry code has a bug */
     uint64_t prim_tests;         /* ray/primitive intersection tests */
     uint64_t node_tests;         /* ray/BVH node tests */
-    char     why[LC_NEEDS][128]; /* for each effect, why it is on or off */
+    char     why[LC_NEEDS][160]; /* for each effect, why it is on or off */
 } lc_stats;
 
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,

@@ -45,7 +45,8 @@ static const char *const absorb_opts[] = {"all", "diffuse", NULL};
 static int w_material(lua_State *L)
 {
     static const char *const known[] = {"color", "ka", "kd", "kr", "ks", "alpha",
-                                        "emission", "absorb", NULL};
+                                        "emission", "absorb", "glossiness",
+                                        "cone_samples", NULL};
     lf_open(L, 1, known);
     lc_material m = lc_material_default();
     m.color = lf_color(L, 1, "color", 0, m.color);
@@ -56,6 +57,8 @@ static int w_material(lua_State *L)
     m.alpha = lf_number(L, 1, "alpha", 0, m.alpha);
     m.emission = lf_color(L, 1, "emission", 0, m.emission);
     m.absorb = (lc_absorb)lf_option(L, 1, "absorb", absorb_opts, (int)m.absorb);
+    m.glossiness = lf_number(L, 1, "glossiness", 0, m.glossiness);
+    m.cone_samples = lf_integer(L, 1, "cone_samples", 0, m.cone_samples);
     lc_error err;
     if (lc_material_check(&m, &err))
         return lf_raise(L, 1, &err);
@@ -72,9 +75,9 @@ static int w_material_tostring(lua_State *L)
     luaL_buffinit(L, &b);
     luaL_addstring(&b, "lancer.material{");
     buf_color(&b, "color", m->color);
-    const char *names[] = {"ka", "kd", "kr", "ks", "alpha"};
-    double vals[] = {m->ka, m->kd, m->kr, m->ks, m->alpha};
-    for (int i = 0; i < 5; i++) {
+    const char *names[] = {"ka", "kd", "kr", "ks", "alpha", "glossiness", "cone_samples"};
+    double vals[] = {m->ka, m->kd, m->kr, m->ks, m->alpha, m->glossiness, m->cone_samples};
+    for (int i = 0; i < 7; i++) {
         luaL_addstring(&b, ", ");
         luaL_addstring(&b, names[i]);
         luaL_addstring(&b, " = ");
@@ -100,6 +103,8 @@ static int w_material_index(lua_State *L)
     else if (strcmp(k, "kr") == 0) lua_pushnumber(L, m->kr);
     else if (strcmp(k, "ks") == 0) lua_pushnumber(L, m->ks);
     else if (strcmp(k, "alpha") == 0) lua_pushnumber(L, m->alpha);
+    else if (strcmp(k, "glossiness") == 0) lua_pushnumber(L, m->glossiness);
+    else if (strcmp(k, "cone_samples") == 0) lua_pushinteger(L, m->cone_samples);
     else if (strcmp(k, "absorb") == 0) lua_pushstring(L, absorb_opts[m->absorb]);
     else lua_pushnil(L);
     return 1;
@@ -309,7 +314,8 @@ static int w_light_index(lua_State *L)
 
 static int w_camera(lua_State *L)
 {
-    static const char *const known[] = {"from", "at", "up", "fov", NULL};
+    static const char *const known[] = {"from", "at", "up", "fov", "aperture", "focus",
+                                        NULL};
     lf_open(L, 1, known);
     lc_camera c;
     memset(&c, 0, sizeof c);
@@ -317,6 +323,8 @@ static int w_camera(lua_State *L)
     c.at = lf_vec3(L, 1, "at", 1, c.at);
     c.up = lf_vec3(L, 1, "up", 0, (lc_vec3){0, 1, 0});
     c.fov = lf_number(L, 1, "fov", 0, 60);
+    c.aperture = lf_number(L, 1, "aperture", 0, 0);
+    c.focus = lf_number(L, 1, "focus", 0, 0);
     lc_error err;
     if (lc_camera_check(&c, &err))
         return lf_raise(L, 1, &err);
@@ -339,6 +347,12 @@ static int w_camera_tostring(lua_State *L)
     buf_vec(&b, "up", c->up);
     luaL_addstring(&b, ", fov = ");
     buf_num(&b, c->fov);
+    if (c->aperture > 0) {
+        luaL_addstring(&b, ", aperture = ");
+        buf_num(&b, c->aperture);
+        luaL_addstring(&b, ", focus = ");
+        buf_num(&b, c->focus);
+    }
     luaL_addstring(&b, "}");
     luaL_pushresult(&b);
     return 1;
@@ -352,6 +366,8 @@ static int w_camera_index(lua_State *L)
     else if (strcmp(k, "at") == 0) lf_push_vec3(L, c->at);
     else if (strcmp(k, "up") == 0) lf_push_vec3(L, c->up);
     else if (strcmp(k, "fov") == 0) lua_pushnumber(L, c->fov);
+    else if (strcmp(k, "aperture") == 0) lua_pushnumber(L, c->aperture);
+    else if (strcmp(k, "focus") == 0) lua_pushnumber(L, c->focus);
     else lua_pushnil(L);
     return 1;
 }

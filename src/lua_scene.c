@@ -13,7 +13,6 @@
 
 /* Mirror bounces: the chain is a loop, so this only bounds the time a
 ** render of two facing mirrors may take. */
-#define MAX_DEPTH 1000000
 
 
 /* ---- scenes --------------------------------------------------------------- */
@@ -73,8 +72,8 @@ static int w_scene(lua_State *L)
     st.background = lf_color(L, 1, "background", 0, st.background);
     st.ambient = lf_color(L, 1, "ambient", 0, st.ambient);
     st.max_depth = lf_integer(L, 1, "max_depth", 0, st.max_depth);
-    if (st.max_depth < 0 || st.max_depth > MAX_DEPTH)
-        return lf_error(L, 1, "max_depth", "must be in [0, %d], got %d", MAX_DEPTH,
+    if (st.max_depth < 0 || st.max_depth > LC_MAX_DEPTH)
+        return lf_error(L, 1, "max_depth", "must be in [0, %d], got %d", LC_MAX_DEPTH,
                         st.max_depth);
     int has_camera = lf_present(L, 1, "camera");
     if (has_camera)
@@ -337,6 +336,8 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
     lua_setfield(L, -2, "degenerate");
     lua_pushinteger(L, (lua_Integer)st->self_hits);
     lua_setfield(L, -2, "self_hits");
+    lua_pushinteger(L, (lua_Integer)st->samples);
+    lua_setfield(L, -2, "samples");
     lua_createtable(L, 0, LC_RAY_KINDS);
     for (int k = 0; k < LC_RAY_KINDS; k++) {
         lua_pushinteger(L, (lua_Integer)st->rays[k]);
@@ -344,7 +345,7 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
     }
     lua_setfield(L, -2, "rays");
     lua_newtable(L);
-    for (unsigned bit = 1; bit <= LC_NEED_AMBIENT; bit <<= 1) {
+    for (unsigned bit = 1; bit < 1u << LC_NEEDS; bit <<= 1) {
         lua_pushboolean(L, (st->needs & bit) != 0);
         lua_setfield(L, -2, lc_need_name(bit));
     }
@@ -371,6 +372,12 @@ static int override_flag(lua_State *L, const char *name)
     lua_settop(L, top);
     return on;
 }
+
+static const char *const sampler_opts[] = {"sobol", "jitter", "random", NULL};
+
+/* The sampling and quality options render and explain both read. */
+#define RENDER_KNOBS "frame", "sampler", "light_samples", "cone_samples", "max_depth", \
+                     "noise", "min_samples", "glossy"
 
 /* The options render and explain share, from the table at arg (checked). */
 static void read_render_options(lua_State *L, int arg, lc_render_options *o)
@@ -403,13 +410,28 @@ static void read_render_options(lua_State *L, int arg, lc_render_options *o)
     o->cutoff = lf_number(L, arg, "cutoff", 0, o->cutoff);
     if (o->cutoff < 0 || o->cutoff > 1)
         lf_error(L, arg, "cutoff", "must be in [0, 1], got %g", o->cutoff);
+    int frame = lf_integer(L, arg, "frame", 0, 0);
+    if (frame < 0)
+        lf_error(L, arg, "frame", "must be >= 0, got %d", frame);
+    o->frame = (uint32_t)frame;
+    o->sampler = (lc_sampler)lf_option(L, arg, "sampler", sampler_opts, (int)o->sampler);
+    o->light_samples = lf_integer(L, arg, "light_samples", 0, o->light_samples);
+    o->cone_samples = lf_integer(L, arg, "cone_samples", 0, o->cone_samples);
+    o->max_depth = lf_integer(L, arg, "max_depth", 0, o->max_depth);
+    o->noise = lf_number(L, arg, "noise", 0, o->noise);
+    o->min_samples = lf_integer(L, arg, "min_samples", 0, o->min_samples);
+    o->glossy = lf_boolean(L, arg, "glossy", 1);
+    lc_error err;
+    if (lc_render_options_check(o, &err))
+        lf_raise(L, arg, &err);
 }
 
 static int w_scene_render(lua_State *L)
 {
     static const char *const known[] = {"width", "height", "samples", "seed", "threads",
                                         "cosine", "cutoff", "progress", "shadows",
-                                        "reflections", "specular", "generic", NULL};
+                                        "reflections", "specular", "generic", RENDER_KNOBS,
+                                        NULL};
     ud_scene *u = check_scene(L, 1);
     lua_settop(L, 2);
     if (override_flag(L, "check")) {
@@ -521,7 +543,8 @@ static int w_scene_explain(lua_State *L)
 {
     static const char *const known[] = {"x", "y", "sample", "width", "height", "samples",
                                         "seed", "threads", "cosine", "cutoff", "shadows",
-                                        "reflections", "specular", "generic", NULL};
+                                        "reflections", "specular", "generic", RENDER_KNOBS,
+                                        NULL};
     ud_scene *u = check_scene(L, 1);
     lf_open(L, 2, known);
     lc_render_options o;
@@ -657,9 +680,9 @@ static int w_scene_newindex(lua_State *L)
     } else if (strcmp(k, "max_depth") == 0) {
         int isint;
         lua_Integer d = lua_tointegerx(L, 3, &isint);
-        if (lua_type(L, 3) != LUA_TNUMBER || !isint || d < 0 || d > MAX_DEPTH)
+        if (lua_type(L, 3) != LUA_TNUMBER || !isint || d < 0 || d > LC_MAX_DEPTH)
             return luaL_error(L, "scene.max_depth: integer in [0, %d] expected, got %s",
-                              MAX_DEPTH, luaL_tolstring(L, 3, NULL));
+                              LC_MAX_DEPTH, luaL_tolstring(L, 3, NULL));
         st.max_depth = (int)d;
     } else {
         return luaL_error(L, "scene.%s: unknown field; settable fields are camera, "

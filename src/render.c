@@ -21,6 +21,11 @@ lc_render_options lc_render_options_default(void)
     o.width = 640;
     o.height = 480;
     o.samples = 1;
+    o.sampler = LC_SAMPLER_SOBOL;
+    o.light_samples = 16;
+    o.max_depth = -1;
+    o.min_samples = 16;
+    o.glossy = 1;
     o.cosine = 1;
     o.cutoff = 1.0 / 255;   /* POV-Ray's adc_bailout: below one step of 8-bit output */
     o.shadows = o.reflections = o.specular = 1;
@@ -28,7 +33,7 @@ lc_render_options lc_render_options_default(void)
 }
 
 static const char *const ray_names[LC_RAY_KINDS] = {"camera", "shadow", "reflection",
-                                                     "cut"};
+                                                     "glossy", "light", "cut"};
 
 const char *lc_ray_kind_name(lc_ray_kind k)
 {
@@ -43,11 +48,14 @@ const char *lc_need_name(unsigned need)
     case LC_NEED_SPECULAR: return "specular";
     case LC_NEED_REFLECT: return "reflect";
     case LC_NEED_AMBIENT: return "ambient";
+    case LC_NEED_GLOSSY: return "glossy";
+    case LC_NEED_AREA: return "area";
+    case LC_NEED_LENS: return "lens";
     default: return "?";
     }
 }
 
-static lc_status check_options(const lc_render_options *o, lc_error *err);
+#define check_options lc_render_options_check
 
 typedef struct {
     const lc_render_options *o;
@@ -187,7 +195,7 @@ static void *work(void *arg)
     return NULL;
 }
 
-static lc_status check_options(const lc_render_options *o, lc_error *err)
+lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
 {
     if (o->width < 1 || o->width > LC_MAX_SIDE)
         return lc_fail(err, LC_EARG, "width", "must be in [1, %d], got %d", LC_MAX_SIDE,
@@ -201,6 +209,22 @@ static lc_status check_options(const lc_render_options *o, lc_error *err)
     if (o->samples < 1 || o->samples > MAX_SAMPLES)
         return lc_fail(err, LC_EARG, "samples", "must be in [1, %d], got %d", MAX_SAMPLES,
                        o->samples);
+    if ((unsigned)o->sampler > LC_SAMPLER_RANDOM)
+        return lc_fail(err, LC_EARG, "sampler", "unknown sampler %d", (int)o->sampler);
+    if (o->light_samples < 0 || o->light_samples > LC_MAX_LIGHT_SAMPLES)
+        return lc_fail(err, LC_EARG, "light_samples", "must be in [0, %d], got %d",
+                       LC_MAX_LIGHT_SAMPLES, o->light_samples);
+    if (o->cone_samples < 0 || o->cone_samples > LC_MAX_CONE_SAMPLES)
+        return lc_fail(err, LC_EARG, "cone_samples", "must be in [0, %d], got %d",
+                       LC_MAX_CONE_SAMPLES, o->cone_samples);
+    if (o->max_depth < -1 || o->max_depth > LC_MAX_DEPTH)
+        return lc_fail(err, LC_EARG, "max_depth", "must be in [0, %d], got %d",
+                       LC_MAX_DEPTH, o->max_depth);
+    if (!(o->noise >= 0 && o->noise <= HUGE_VAL) || isinf(o->noise))
+        return lc_fail(err, LC_EARG, "noise", "must be finite and >= 0, got %g", o->noise);
+    if (o->min_samples < 1 || o->min_samples > MAX_SAMPLES)
+        return lc_fail(err, LC_EARG, "min_samples", "must be in [1, %d], got %d",
+                       MAX_SAMPLES, o->min_samples);
     if (!(o->cutoff >= 0 && o->cutoff <= 1))
         return lc_fail(err, LC_EARG, "cutoff", "must be in [0, 1], got %g", o->cutoff);
     if (o->threads < 0 || o->threads > MAX_THREADS)

@@ -42,7 +42,7 @@ typedef struct {
     bvh      bvh;          /* over spheres, quads, boxes and triangles */
     unsigned needs;        /* LC_NEED_* */
     unsigned char *plan;   /* per material, PLAN_* below: decided once per render */
-    char     why[LC_NEEDS][128];
+    char     why[LC_NEEDS][160];
     double   seconds;
     int      valid;        /* matches the scene as it is now */
     size_t   faces_seen;   /* total mesh faces when compiled: meshes may grow */

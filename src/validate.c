@@ -9,7 +9,7 @@
 
 lc_material lc_material_default(void)
 {
-    lc_material m = {{1, 1, 1}, 1, 1, 0, 0, 32, {0, 0, 0}, LC_ABSORB_ALL};
+    lc_material m = {{1, 1, 1}, 1, 1, 0, 0, 32, {0, 0, 0}, LC_ABSORB_ALL, 0, 16};
     return m;
 }
 
@@ -75,6 +75,12 @@ lc_status lc_material_check(const lc_material *m, lc_error *err)
         check_coef(m->ks, "ks", err) || check_coef(m->alpha, "alpha", err) ||
         check_color(m->emission, HUGE_VAL, "emission", err))
         return LC_EARG;
+    if (!isfinite(m->glossiness) || m->glossiness < 0 || m->glossiness >= 90)
+        return lc_fail(err, LC_EARG, "glossiness", "must be in [0, 90) degrees, got %g",
+                       m->glossiness);
+    if (m->cone_samples < 1 || m->cone_samples > LC_MAX_CONE_SAMPLES)
+        return lc_fail(err, LC_EARG, "cone_samples", "must be in [1, %d], got %d",
+                       LC_MAX_CONE_SAMPLES, m->cone_samples);
     if (m->absorb != LC_ABSORB_ALL && m->absorb != LC_ABSORB_DIFFUSE)
         return lc_fail(err, LC_EARG, "absorb", "unknown absorb mode %d", (int)m->absorb);
     lc_ok(err);
@@ -155,6 +161,11 @@ lc_status lc_camera_check(const lc_camera *c, lc_error *err)
         return LC_EARG;
     if (!isfinite(c->fov) || !(c->fov > 0 && c->fov < 180))
         return lc_fail(err, LC_EARG, "fov", "must be in (0, 180) degrees, got %g", c->fov);
+    if (!isfinite(c->aperture) || c->aperture < 0)
+        return lc_fail(err, LC_EARG, "aperture", "must be finite and >= 0, got %g",
+                       c->aperture);
+    if (!isfinite(c->focus) || c->focus < 0)
+        return lc_fail(err, LC_EARG, "focus", "must be finite and >= 0, got %g", c->focus);
     lc_ok(err);
     return LC_OK;
 }

@@ -1625,18 +1625,8 @@ waits("H18", "total internal reflection in a 45-45-90 glass prism: 0.9216 L", "i
 waits("H19", "Fresnel at grazing incidence, F in [0, 1], R + T = 1", "ior", mat{ior = 2.4})
 waits("H20", "nested dielectrics: no phantom surface, bubble 0.849 L", "ior", mat{ior = 1})
 waits("H21(c)", "glass furnace: B within 1 % inside 0.9 r", "ior", mat{ior = 1.5})
-waits("H21(d)", "glossy furnace: B within 1/255 away from grazing", "glossiness",
-      mat{glossiness = 10})
-waits("H23", "glossy cone: one maximum, no duplicated reflections", "glossiness",
-      mat{glossiness = 5})
-waits("H24", "glossy cone at grazing and along the axes: no NaN, no speckle", "glossiness",
-      mat{glossiness = 20})
-waits("H28", "glossy cone of 1e-20 rad = a perfect mirror", "glossiness",
-      mat{glossiness = 1e-20})
 waits("H31", "checker to the horizon converges to its mean", "texture",
       mat{texture = "checker"})
-waits("A2/A3", "sampled area lights: soft shadows, exact E/L", "light_samples",
-      opt{width = 2, height = 2, light_samples = 16})
 waits("T7", "adaptive sampling by pixel variance", "adaptive",
       opt{width = 2, height = 2, adaptive = 0.01})
 waits("A4", "refraction through a flat slab: shift t*sin(i - t)/cos t", "ior",
