@@ -1,5 +1,6 @@
 /* render.c: tiles traced in parallel into a linear image, with statistics. */
 #include <pthread.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -233,6 +234,15 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
     return LC_OK;
 }
 
+/* lc_interrupt() bumps this from a signal handler; a render cancels when it
+** changes while the render waits for its tiles. */
+static volatile sig_atomic_t interrupts;
+
+void lc_interrupt(void)
+{
+    interrupts++;
+}
+
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
                           lc_error *err)
 {
@@ -300,6 +310,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         work(&ws[0]);
     }
     /* The calling thread reports progress between tiles and honours cancel. */
+    sig_atomic_t interrupts_seen = interrupts;
     pthread_mutex_lock(&j.lock);
     while (j.running > 0) {
         struct timespec until;
@@ -310,6 +321,8 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
             until.tv_nsec -= 1000000000;
         }
         pthread_cond_timedwait(&j.tile_done, &j.lock, &until);
+        if (interrupts != interrupts_seen)
+            j.cancel = 1;
         if (o->progress && !j.cancel) {
             double done = (double)j.done / j.ntiles;
             pthread_mutex_unlock(&j.lock);

@@ -1,6 +1,7 @@
 /* test_api.c: the embeddable C API, used as the README shows, through lancer.h only. */
 #include <math.h>
 #include <setjmp.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -92,12 +93,71 @@ static void progress_can_cancel(void **state)
     lc_scene_free(s);
 }
 
+static void on_sigusr1(int sig)
+{
+    (void)sig;
+    lc_interrupt();
+}
+
+/* Stands in for Ctrl-C: the first progress call raises a signal whose
+** handler calls lc_interrupt(), as the lancer command's SIGINT handler does. */
+static int signal_once(void *ud, double done)
+{
+    (void)done;
+    if (++*(int *)ud == 1)
+        raise(SIGUSR1);
+    return 0;
+}
+
+static void interrupt_cancels_running_renders_only(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_scene *s = lc_scene_new(&err);
+    lc_camera cam = {{0, 0, -4}, {0, 0, 0}, {0, 1, 0}, 60, 0, 0};
+    lc_scene_set_camera(s, &cam, &err);
+    lc_material m = lc_material_default();
+    int mi = lc_scene_add_material(s, &m, &err);
+    lc_shape b = {LC_SPHERE, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 1};
+    lc_scene_add_shape(s, &b, mi, &err);
+    struct sigaction sa, old;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_sigusr1;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGUSR1, &sa, &old);
+
+    int calls = 0;
+    lc_render_options o = lc_render_options_default();
+    o.width = 1024;
+    o.height = 1024;
+    o.progress = signal_once;
+    o.progress_ud = &calls;
+    lc_stats st;
+    assert_null(lc_scene_render(s, &o, &st, &err));
+    assert_int_equal(err.code, LC_ECANCEL);
+    assert_string_equal(err.msg, "render cancelled");
+    /* Fewer camera rays than pixels: it stopped early. */
+    assert_true(st.rays[LC_RAY_CAMERA] < (uint64_t)o.width * o.height);
+
+    /* An interrupt before a render starts does not cancel it. */
+    lc_interrupt();
+    o.width = o.height = 64;
+    o.progress = NULL;
+    lc_image *img = lc_scene_render(s, &o, &st, &err);
+    assert_non_null(img);
+    assert_int_equal(st.rays[LC_RAY_CAMERA], 64 * 64);
+    lc_image_free(img);
+    sigaction(SIGUSR1, &old, NULL);
+    lc_scene_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(readme_example_renders),
         cmocka_unit_test(errors_name_the_field),
         cmocka_unit_test(progress_can_cancel),
+        cmocka_unit_test(interrupt_cancels_running_renders_only),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
