@@ -27,6 +27,18 @@ struct lc_embedded_lua {
 };
 extern const struct lc_embedded_lua lc_embedded_lua[];
 
+/* The animation options: lancer.animate reads them from lancer.overrides. */
+struct anim_opts {
+    const char **frames;    /* --frames and --frame lists, checked; nframes of them */
+    int nframes;
+    int shard_k, shard_n;   /* --shard K/N; shard_n 0: every frame */
+    int skip_existing;      /* --skip-existing */
+    int list_frames;        /* --list-frames: print the paths, render nothing */
+    const char *video;      /* --video PATH: assemble with ffmpeg */
+    const char *output;     /* -o PATTERN: replaces the script's output pattern */
+    const char *first;      /* the first of these given, to name in errors */
+};
+
 /* The parsed command line. Options stop at the script, as with lua5.4:
 ** whatever follows the script belongs to the script. */
 struct cmdline {
@@ -41,6 +53,8 @@ struct cmdline {
     int check;              /* --check: is the scene numerically stable? */
     int stats;              /* --stats: print each render's ledger */
     int unstable;           /* --check found it was not: exit 3 */
+    struct anim_opts anim;  /* --frames, --shard, --video, ... */
+    int late_usage;         /* a usage error found after the script ran: exit 2 */
 };
 
 enum { PARSE_RUN, PARSE_DONE, PARSE_USAGE };
@@ -62,6 +76,10 @@ static void print_usage(void)
 "  lancer -e 'print(require(\"lancer\").version)'\n"
 "  lancer -i scene.lua           run scene.lua, then the interactive prompt\n"
 "  lancer --check scene.lua      is the scene numerically stable?\n"
+"  lancer --video orbit.mp4 orbit.lua\n"
+"                                render an animation's frames, then an mp4\n"
+"  lancer --frames 1-24 --skip-existing orbit.lua\n"
+"                                frames 1 to 24 of it, those not yet written\n"
 "  lancer                        the interactive prompt\n"
 "\n"
 "Options (before the script; arguments after it go to the script):\n"
@@ -76,6 +94,20 @@ static void print_usage(void)
 "  --check       render each image small at scales 1e-3, 1, 1e3 and moved 1e6\n"
 "                away; report differing pixels, NaN and self-hits (exit 3 if\n"
 "                the scene is numerically unstable)\n"
+"\n"
+"Animations (scripts calling lancer.animate{...}; frames are numbered from 1\n"
+"unless the script sets 'first'):\n"
+"  --frames LIST frames to render: 7, 1-48, 1-48:4 (every 4th), 1,5,9-12\n"
+"  --frame N     the same as --frames N\n"
+"  --shard K/N   of those, only frames whose number mod N is K (0 <= K < N)\n"
+"  --skip-existing\n"
+"                leave frames whose file exists (files appear whole, by rename)\n"
+"  --list-frames print the selected frames' paths, render nothing\n"
+"  -o PATTERN    write frames to PATTERN (out/f_%04d.png or out/f_####.png)\n"
+"  --video FILE  then assemble every frame with ffmpeg (.mp4 .mkv .mov .webm .gif)\n"
+"  Each frame logs one line on stderr; a failed frame does not stop the others,\n"
+"  and the exit status is then 1.\n"
+"\n"
 "  --help        print this help and exit\n"
 "  --version     print the version and exit\n"
 "\n"
@@ -140,6 +172,138 @@ static int is_opt(const char *arg, const char *name)
     return strncmp(arg, name, n) == 0 && (arg[n] == '\0' || arg[n] == '=');
 }
 
+/* ---- Animation options ----------------------------------------------------- */
+
+#define FRAME_MAX 1000000000L   /* frame numbers and steps, as lancer.animate allows */
+
+/* Reads a frame number at *s (digits only, at most FRAME_MAX); moves *s past it. */
+static int frame_number(const char **s, long *out)
+{
+    long v = 0;
+    if (**s < '0' || **s > '9')
+        return 0;
+    for (; **s >= '0' && **s <= '9'; ++*s) {
+        v = v * 10 + (**s - '0');
+        if (v > FRAME_MAX)
+            return 0;
+    }
+    *out = v;
+    return 1;
+}
+
+/* Reads a --frames list: items N, A-B or A-B:S separated by commas. With L,
+** appends each item as {A, B, S} to the table on top of L's stack. Returns
+** NULL, or why the list is wrong. */
+static const char *frame_list(const char *s, lua_State *L)
+{
+    do {
+        long a, b, step = 1;
+        if (!frame_number(&s, &a))
+            return "frames are whole numbers from 0";
+        b = a;
+        if (*s == '-' && (s++, !frame_number(&s, &b)))
+            return "a range is A-B";
+        if (*s == ':' && (s++, !frame_number(&s, &step) || step < 1))
+            return "a step is a whole number from 1";
+        if (*s != ',' && *s != '\0')
+            return "items are N, A-B or A-B:STEP, separated by commas";
+        if (b < a)
+            return "a range A-B needs A <= B";
+        if (L) {
+            lua_createtable(L, 3, 0);
+            lua_pushinteger(L, a);
+            lua_rawseti(L, -2, 1);
+            lua_pushinteger(L, b);
+            lua_rawseti(L, -2, 2);
+            lua_pushinteger(L, step);
+            lua_rawseti(L, -2, 3);
+            lua_rawseti(L, -2, (lua_Integer)luaL_len(L, -2) + 1);
+        }
+    } while (*s++ == ',');
+    return NULL;
+}
+
+/* The value of "--name V" or "--name=V"; NULL when it is missing. */
+static const char *option_value(struct cmdline *cl, int *i, const char *name)
+{
+    const char *a = cl->argv[*i];
+    size_t n = strlen(name);
+    if (a[n] == '=')
+        return a + n + 1;
+    return cl->argv[*i + 1] ? cl->argv[++*i] : NULL;
+}
+
+static int bad_value(const char *name, const char *want, const char *got)
+{
+    fprintf(stderr, "lancer: option '%s' needs %s, got '%s'; try 'lancer --help'\n",
+            name, want, got);
+    return PARSE_USAGE;
+}
+
+/* Handles one animation option at argv[*i]: 1 and *st set when it was one. */
+static int parse_anim_option(struct cmdline *cl, int *i, int *st)
+{
+    static const char *const names[] = {"--frames", "--frame", "--shard", "--skip-existing",
+                                        "--list-frames", "--video", "--output", "-o", NULL};
+    static const char *const video_ext[] = {".mp4", ".mkv", ".mov", ".webm", ".gif", NULL};
+    struct anim_opts *an = &cl->anim;
+    const char *a = cl->argv[*i], *name = NULL, *v = NULL, *why;
+    int k;
+    for (k = 0; names[k] && !name; k++)
+        if (is_opt(a, names[k]))
+            name = names[k];
+    if (!name)
+        return 0;
+    *st = PARSE_RUN;
+    if (!an->first)
+        an->first = name;
+    if (strcmp(name, "--skip-existing") == 0 || strcmp(name, "--list-frames") == 0) {
+        if (a[strlen(name)] == '=') {
+            *st = usage_error("option '%s' takes no value", name);
+            return 1;
+        }
+        *(name[2] == 's' ? &an->skip_existing : &an->list_frames) = 1;
+        return 1;
+    }
+    if ((v = option_value(cl, i, name)) == NULL) {
+        *st = usage_error("option '%s' needs a value", name);
+        return 1;
+    }
+    if (strcmp(name, "--frames") == 0 || strcmp(name, "--frame") == 0) {
+        if ((why = frame_list(v, NULL)) != NULL) {
+            fprintf(stderr, "lancer: option '%s' needs frames like 7, 1-48, 1-48:2 or "
+                    "1,5,9-12, got '%s' (%s); try 'lancer --help'\n", name, v, why);
+            *st = PARSE_USAGE;
+        } else if (strcmp(name, "--frame") == 0 && strpbrk(v, ",-:")) {
+            *st = bad_value(name, "one frame number (--frames takes lists)", v);
+        } else {
+            an->frames[an->nframes++] = v;
+        }
+    } else if (strcmp(name, "--shard") == 0) {
+        long sk, sn;
+        const char *p = v;
+        if (!frame_number(&p, &sk) || *p++ != '/' || !frame_number(&p, &sn) || *p ||
+            sn < 1 || sk >= sn)
+            *st = bad_value(name, "K/N with 0 <= K < N, such as 0/4", v);
+        an->shard_k = (int)sk;
+        an->shard_n = (int)sn;
+    } else if (strcmp(name, "--video") == 0) {
+        size_t n = strlen(v), e;
+        for (k = 0; video_ext[k]; k++)
+            if (n > (e = strlen(video_ext[k])) && strcmp(v + n - e, video_ext[k]) == 0)
+                break;
+        if (!video_ext[k])
+            *st = bad_value(name, "a file ending in .mp4, .mkv, .mov, .webm or .gif", v);
+        an->video = v;
+    } else {                                    /* -o, --output */
+        if (!strchr(v, '%') && !strchr(v, '#'))
+            *st = bad_value(name, "a pattern with a frame field, such as "
+                            "out/f_%04d.png or out/f_####.png", v);
+        an->output = v;
+    }
+    return 1;
+}
+
 /* Checks every option before anything runs, so a typo costs no render. */
 static int parse_args(struct cmdline *cl)
 {
@@ -183,6 +347,8 @@ static int parse_args(struct cmdline *cl)
             st = parse_size(cl, &i, "--height", &cl->height);
         } else if (is_opt(a, "--samples")) {
             st = parse_size(cl, &i, "--samples", &cl->samples);
+        } else if (parse_anim_option(cl, &i, &st)) {
+            /* --frames, --shard, --video, ... */
         } else {
             return usage_error("unknown option '%s'", a);
         }
@@ -354,6 +520,53 @@ static void seed_random(lua_State *L)
     lua_pop(L, 1);
 }
 
+/* The animation options, into the overrides table on top of the stack. */
+static void store_anim_overrides(lua_State *L, const struct anim_opts *an)
+{
+    int k;
+    if (!an->first)
+        return;
+    lua_pushboolean(L, 1);          /* usage errors found later exit 2 */
+    lua_setfield(L, -2, "cli");
+    if (an->nframes > 0) {
+        lua_newtable(L);
+        for (k = 0; k < an->nframes; k++)
+            frame_list(an->frames[k], L);
+        lua_setfield(L, -2, "frames");
+    }
+    if (an->shard_n > 0) {
+        lua_createtable(L, 2, 0);
+        lua_pushinteger(L, an->shard_k);
+        lua_rawseti(L, -2, 1);
+        lua_pushinteger(L, an->shard_n);
+        lua_rawseti(L, -2, 2);
+        lua_setfield(L, -2, "shard");
+    }
+    lua_pushboolean(L, an->skip_existing);
+    lua_setfield(L, -2, "skip_existing");
+    lua_pushboolean(L, an->list_frames);
+    lua_setfield(L, -2, "list_frames");
+    if (an->video) {
+        lua_pushstring(L, an->video);
+        lua_setfield(L, -2, "video");
+    }
+    if (an->output) {
+        lua_pushstring(L, an->output);
+        lua_setfield(L, -2, "output");
+    }
+}
+
+/* After the script: how many animations it declared (lancer.animate calls). */
+static int anim_count(lua_State *L)
+{
+    lua_getglobal(L, "require");
+    lua_pushliteral(L, "lancer.anim");
+    lua_call(L, 1, 1);
+    lua_getfield(L, -1, "finish");
+    lua_call(L, 0, 1);
+    return 1;
+}
+
 /* Runs protected: require may fail, and lancer may not be a table. */
 static int store_overrides(lua_State *L)
 {
@@ -390,6 +603,7 @@ static int store_overrides(lua_State *L)
         lua_pushboolean(L, 1);
         lua_setfield(L, -2, "stats");
     }
+    store_anim_overrides(L, &cl->anim);
     return 0;
 }
 
@@ -407,7 +621,8 @@ static int check_verdict(lua_State *L)
 /* Loads lancer only when asked to, so -e 'print(1)' needs no renderer. */
 static int set_overrides(lua_State *L, const struct cmdline *cl)
 {
-    if (!cl->width && !cl->height && !cl->samples && !cl->check && !cl->stats)
+    if (!cl->width && !cl->height && !cl->samples && !cl->check && !cl->stats &&
+        !cl->anim.first)
         return LUA_OK;
     lua_pushcfunction(L, store_overrides);
     lua_pushlightuserdata(L, (void *)cl);
@@ -625,6 +840,20 @@ static int pmain(lua_State *L)
     }
     if (cl->script > 0 && handle_script(L, cl) != LUA_OK)
         return 0;
+    /* Frame options need an animation (not checked for the REPL). */
+    if (cl->anim.first && !cl->interactive && (cl->script > 0 || cl->nchunks > 0)) {
+        lua_pushcfunction(L, anim_count);
+        if (report(L, docall(L, 0, 1)) != LUA_OK)
+            return 0;
+        if (lua_tointeger(L, -1) == 0) {
+            fprintf(stderr, "lancer: option '%s' needs a script that calls "
+                    "lancer.animate{...}; %s does not; try 'lancer --help'\n",
+                    cl->anim.first, cl->script > 0 ? cl->argv[cl->script] : "the code run");
+            cl->late_usage = 1;
+            return 0;
+        }
+        lua_pop(L, 1);
+    }
     if (cl->check) {
         lua_pushcfunction(L, check_verdict);
         if (report(L, docall(L, 0, 1)) != LUA_OK)
@@ -662,13 +891,17 @@ int main(int argc, char **argv)
         return 2;
     }
     cl.chunks = malloc((size_t)argc * sizeof *cl.chunks);
-    if (cl.chunks == NULL) {
+    cl.anim.frames = malloc((size_t)argc * sizeof *cl.anim.frames);
+    if (cl.chunks == NULL || cl.anim.frames == NULL) {
         fprintf(stderr, "lancer: not enough memory\n");
+        free(cl.chunks);
+        free(cl.anim.frames);
         return 1;
     }
     parsed = parse_args(&cl);
     if (parsed != PARSE_RUN) {
         free(cl.chunks);
+        free(cl.anim.frames);
         return parsed == PARSE_DONE ? 0 : 2;
     }
 
@@ -676,6 +909,7 @@ int main(int argc, char **argv)
     if (L == NULL) {
         fprintf(stderr, "lancer: cannot create the Lua state: not enough memory\n");
         free(cl.chunks);
+        free(cl.anim.frames);
         return 1;
     }
     lua_gc(L, LUA_GCSTOP);              /* no collection while building state */
@@ -686,7 +920,10 @@ int main(int argc, char **argv)
     report(L, status);
     lua_close(L);
     free(cl.chunks);
+    free(cl.anim.frames);
     if (cl.unstable)
         return 3;
+    if (cl.late_usage)
+        return 2;
     return ok && status == LUA_OK ? 0 : 1;
 }

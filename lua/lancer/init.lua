@@ -13,4 +13,7 @@ M.overrides = core.overrides
 -- lancer.ledger(stats): the statistics of a render as a readable table.
 M.ledger = require("lancer.ledger").format
 
+-- lancer.animate{frames, fps, output, render, frame = function(f) ... end}
+M.animate = require("lancer.anim").animate
+
 return M
