@@ -383,3 +383,28 @@ T.test("--video refuses to assemble when a frame is missing", function()
       "/v.mp4 (first missing: " .. dir .. "/f_0006.png)")
   rm(dir)
 end)
+
+-- The README's one command: a 48-frame animation to an mp4.
+T.test("--video: the 48-frame orbit example becomes a 48-frame mp4 and a gif", function()
+  if not have("ffmpeg") then T.skip("ffmpeg is not installed") end
+  local dir = temp_dir()
+  local out, err, code = T.run(("%s --width 32 --height 24 --samples 1 --video %s " ..
+    "examples/06_orbit.lua %s"):format(L, q(dir .. "/orbit.mp4"), q(dir .. "/orbit_%04d.png")))
+  check_exit(code, 0, out, err)
+  T.eq(#lines(err), 49, "log lines")
+  has(err, "video: " .. dir .. "/orbit.mp4, 48 frames at 24 fps")
+  local probe = ("ffprobe -v error -count_frames -select_streams v:0 -show_entries " ..
+    "stream=codec_name,width,height,nb_read_frames -of csv=p=0 %s")
+  local p = assert(io.popen(probe:format(q(dir .. "/orbit.mp4"))))
+  local info = p:read("a")
+  p:close()
+  T.eq(info, "h264,32,24,48\n", "ffprobe")
+  out, err, code = T.run(("%s --skip-existing --video %s examples/06_orbit.lua %s"):format(
+    L, q(dir .. "/orbit.gif"), q(dir .. "/orbit_%04d.png")))
+  check_exit(code, 0, out, err)
+  p = assert(io.popen(probe:format(q(dir .. "/orbit.gif"))))
+  info = p:read("a")
+  p:close()
+  T.eq(info, "gif,32,24,48\n", "ffprobe gif")
+  rm(dir)
+end)

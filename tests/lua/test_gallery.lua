@@ -1,5 +1,6 @@
 -- test_gallery.lua: every scene and example script runs, in this process, at a
--- tiny size, writes its PNG (05_frames: its 8 frames), and every image it
+-- tiny size, writes its PNG (05_frames: its 8 frames; animations: their
+-- first 2), and every image it
 -- renders is free of NaN and infinite pixels.
 local T = require "harness"
 local lancer = require "lancer"
@@ -31,7 +32,9 @@ end
 
 -- Runs script with arg[1] = out, tiny overrides, and every render checked.
 -- Returns the number of renders. Restores overrides, render, arg and print.
-local function run_script(script, out)
+-- frames: for animations, the --frames ranges to render (their log lines
+-- on stderr are dropped).
+local function run_script(script, out, frames)
   local methods = scene_methods()
   local render = methods.render
   local renders = 0
@@ -44,14 +47,17 @@ local function run_script(script, out)
     T.eq(T.bad_pixels(img), 0, script .. ": NaN/inf channels in render " .. renders)
     return img, stats
   end
-  lancer.overrides = {width = 48, height = 36, samples = 1}
+  lancer.overrides = {width = 48, height = 36, samples = 1, frames = frames}
   arg = {[0] = script, [1] = out}
   print = function() end              -- scripts report what they wrote; not here
+  local saved_stderr = io.stderr
+  if frames then io.stderr = {write = function() end, flush = function() end} end
   local ok, err = pcall(function()
     local chunk = assert(loadfile(script))
     chunk(out)
   end)
   methods.render = render
+  io.stderr = saved_stderr
   lancer.overrides = saved_overrides
   arg = saved_arg
   print = saved_print
@@ -76,6 +82,17 @@ for _, script in ipairs(list_scripts()) do
       if not ok then error(renders, 0) end
       T.eq(#missing, 0, "missing frames: " .. table.concat(missing, ", "))
       T.eq(renders, 8, "renders")
+    elseif T.slurp(script):find("lancer.animate", 1, true) then
+      -- An animation: its first two frames, through lancer.animate.
+      local ok, renders = pcall(run_script, script, tmp .. "_%04d.png", {{1, 2, 1}})
+      local missing = {}
+      for i = 1, 2 do
+        local path = ("%s_%04d.png"):format(tmp, i)
+        if exists(path) then os.remove(path) else missing[#missing + 1] = path end
+      end
+      if not ok then error(renders, 0) end
+      T.eq(#missing, 0, "missing frames: " .. table.concat(missing, ", "))
+      T.eq(renders, 2, "renders")
     else
       tmp = tmp .. ".png"
       local ok, renders = pcall(run_script, script, tmp)
