@@ -474,6 +474,7 @@ static int w_scene_render(lua_State *L)
         return lf_raise(L, 2, &err);
     }
     push_stats(L, &st, lua_seconds);
+    int top = lua_gettop(L);                /* the image at top - 1, stats at top */
     if (override_flag(L, "stats")) {
         lua_getglobal(L, "require");
         lua_pushliteral(L, "lancer.ledger");
@@ -483,6 +484,16 @@ static int w_scene_render(lua_State *L)
         lua_call(L, 1, 0);
         lua_pop(L, 1);
     }
+    /* lancer.overrides.on_render(img, stats): the REPL's preview and save. */
+    lua_getfield(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+    if (lua_getfield(L, -1, "lancer") == LUA_TTABLE &&
+        lua_getfield(L, -1, "overrides") == LUA_TTABLE &&
+        lua_getfield(L, -1, "on_render") == LUA_TFUNCTION) {
+        lua_pushvalue(L, top - 1);
+        lua_pushvalue(L, top);
+        lua_call(L, 2, 0);
+    }
+    lua_settop(L, top);
     return 2;
 }
 

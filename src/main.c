@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include <sys/ioctl.h>
 
 #include <editline/readline.h>
 #include <lauxlib.h>
@@ -374,7 +375,12 @@ static void set_sigint(void (*handler)(int), struct sigaction *old)
 ** hook then raises the error from inside Lua, where unwinding is allowed. */
 static void lstop(lua_State *L, lua_Debug *ar)
 {
-    (void)ar;
+    /* Not on entering or leaving a C function: that is the message handler
+    ** of a render that Ctrl-C cancelled, whose "render cancelled" must stay.
+    ** The next Lua instruction raises instead. */
+    if (ar->event != LUA_HOOKCOUNT && ar->event != LUA_HOOKLINE &&
+        lua_getinfo(L, "S", ar) && ar->what[0] == 'C')
+        return;
     lua_sethook(L, NULL, 0, 0);
     luaL_error(L, "interrupted!");
 }
@@ -383,7 +389,8 @@ static void laction(int sig)
 {
     int flag = LUA_MASKCALL | LUA_MASKRET | LUA_MASKLINE | LUA_MASKCOUNT;
     (void)sig;
-    set_sigint(SIG_DFL, NULL);  /* a second Ctrl-C kills: C code runs no hooks */
+    set_sigint(SIG_DFL, NULL);  /* a second Ctrl-C kills */
+    lc_interrupt();             /* a render stops; the binding raises "render cancelled" */
     lua_sethook(globalL, lstop, flag, 1);
 }
 
@@ -783,15 +790,43 @@ static void l_print(lua_State *L)
     }
 }
 
+/* lancer.repl.terminal_size(): columns and rows of the terminal on stdout,
+** asked each time (it may have been resized); nothing when it is not one. */
+static int terminal_size(lua_State *L)
+{
+    struct winsize ws;
+    if (ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) != 0 || ws.ws_col == 0 || ws.ws_row == 0)
+        return 0;
+    lua_pushinteger(L, ws.ws_col);
+    lua_pushinteger(L, ws.ws_row);
+    return 2;
+}
+
+/* Runs protected: renders at the prompt show a preview and are saved. */
+static int repl_start(lua_State *L)
+{
+    lua_getglobal(L, "require");
+    lua_pushliteral(L, "lancer.repl");
+    lua_call(L, 1, 1);
+    lua_getfield(L, -1, "start");
+    lua_pushboolean(L, isatty(STDOUT_FILENO));
+    lua_pushcfunction(L, terminal_size);
+    lua_call(L, 2, 0);
+    return 0;
+}
+
 static void do_repl(lua_State *L)
 {
     struct sigaction old;
     const char *oldprogname = progname;
     int status;
     progname = NULL;
-    printf("lancer %s (%s) -- render with scene:render{...}, Ctrl-D to quit\n",
+    printf("lancer %s (%s) -- renders are previewed and saved; ls(scene), "
+           "show(img); Ctrl-D quits\n",
            LANCER_VERSION, LUA_VERSION);
     fflush(stdout);
+    lua_pushcfunction(L, repl_start);
+    report(L, docall(L, 0, 0));         /* without it, a plain Lua prompt */
     history_open();
     set_sigint(on_prompt_sigint, &old);     /* docall swaps in laction */
     while ((status = loadline(L)) != LINE_EOF) {

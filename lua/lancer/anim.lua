@@ -291,9 +291,9 @@ function M.animate(spec)
       result.skipped = result.skipped + 1
       log("frame %d: skipped, %s exists", n, f.output)
     else
-      local ok, img, st = xpcall(render_frame, function(e)
-        return type(e) == "string" and e or tostring(e)
-      end, a, f)
+      -- pcall, not xpcall: a Lua message handler is where a Ctrl-C pending
+      -- from a cancelled render would strike, and hide "render cancelled".
+      local ok, img, st = pcall(render_frame, a, f)
       if ok then
         result.rendered = result.rendered + 1
         log("frame %d: %dx%d, %d spp, %.3f s, %d rays -> %s", n, img.width, img.height,
@@ -304,7 +304,7 @@ function M.animate(spec)
         error(img, 0)
       else
         result.failed[#result.failed + 1] = n
-        log("frame %d: FAILED: %s", n, img)
+        log("frame %d: FAILED: %s", n, tostring(img))
       end
     end
   end

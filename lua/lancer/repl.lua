@@ -1,0 +1,98 @@
+-- lancer.repl: what the lancer command's prompt adds. Every render shows a
+-- preview in the terminal (when standard output is one, NO_COLOR is unset
+-- and TERM is not dumb) and is saved to out/repl_001.png, out/repl_002.png,
+-- ..., the path printed. Globals for the prompt: lancer, show(img),
+-- ls(scene). Settings live in this table (lancer.repl at the prompt):
+--   repl.save = "out/repl_%03d.png"   -- or false: save nothing
+--   repl.preview = true               -- false: no picture in the terminal
+local lancer = require "lancer"
+local preview = require "lancer.preview"
+local anim = require "lancer.anim"
+
+local M = {save = "out/repl_%03d.png", preview = true, tty = false, saved = 0}
+
+-- Replaced by the lancer command with one that asks the terminal.
+function M.terminal_size() return nil end
+
+-- Why no preview can be shown here, or nil.
+local function no_preview()
+  if not M.tty then return "standard output is not a terminal" end
+  if not preview.wanted() then return "NO_COLOR is set or TERM is dumb" end
+end
+
+local function draw(img)
+  local cols, rows = M.terminal_size()
+  io.write(preview.text(img, {columns = cols or 80, rows = (rows or 24) - 3,
+                              truecolor = preview.truecolor()}))
+  io.flush()
+end
+
+-- show(img): the image in the terminal, fitted to its width and height.
+function M.show(img)
+  local why = no_preview()
+  if why then print("no preview: " .. why) else draw(img) end
+end
+
+local function exists(path)
+  local f = io.open(path, "rb")
+  if f then f:close() end
+  return f ~= nil
+end
+
+-- The next numbered path not taken yet, creating its folder.
+local function next_path()
+  local path
+  repeat
+    M.saved = M.saved + 1
+    path = M.save:format(M.saved)
+  until not exists(path) or not M.save:find("%", 1, true)
+  local dir = path:match("^(.*)/[^/]*$")
+  if dir and not os.rename(dir, dir) then
+    os.execute("mkdir -p '" .. dir:gsub("'", [['\'']]) .. "' 2>/dev/null")
+  end
+  return path
+end
+
+-- lancer.overrides.on_render: called by every render made at the prompt.
+function M.on_render(img, stats)
+  if M.preview and not no_preview() then draw(img) end
+  if M.save and not anim.busy then       -- animate saves its own frames
+    local path = next_path()
+    local ok, err = pcall(img.save, img, path)
+    if ok then
+      print(("saved %s (%dx%d, %.2f s)"):format(path, img.width, img.height, stats.seconds))
+    else
+      print("not saved: " .. tostring(err))
+    end
+  end
+end
+
+-- ls(scene): the scene's objects, numbered, for scene:remove(scene:objects()[i]).
+function M.ls(scene)
+  local name = tostring(scene)
+  if not name:match("^lancer%.Scene") then
+    error(("bad argument #1 to 'ls' (lancer.Scene expected, got %s)"):format(
+      scene == nil and "nil" or name), 2)
+  end
+  print(name)
+  if not scene.objects then
+    print("  (this build has no scene:objects() to list them)")
+    return
+  end
+  for i, obj in ipairs(scene:objects()) do
+    print(("%4d  %s"):format(i, tostring(obj)))
+  end
+end
+
+-- Called by the lancer command when the prompt starts.
+function M.start(tty, terminal_size)
+  M.tty = tty
+  if terminal_size then M.terminal_size = terminal_size end
+  lancer.overrides.on_render = M.on_render
+  lancer.repl = M
+  _G.lancer = _G.lancer or lancer
+  _G.show = _G.show or M.show
+  _G.ls = _G.ls or M.ls
+end
+
+return M
