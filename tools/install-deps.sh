@@ -6,7 +6,9 @@
 set -eu
 
 build_pkgs="gcc make pkg-config lua5.4 liblua5.4-dev libpng-dev libedit-dev"
-test_pkgs="libcmocka-dev"
+# parallel: tests/lua/test_farm.lua splits an animation over GNU parallel workers.
+# ffmpeg is optional (about 300 packages): its tests are skipped without it.
+test_pkgs="libcmocka-dev parallel"
 
 case "${1:-build}" in
     build) want="$build_pkgs" ;;
