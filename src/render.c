@@ -253,6 +253,9 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
                        LC_MAX_DEPTH, o->max_depth);
     if (!(o->noise >= 0 && o->noise <= HUGE_VAL) || isinf(o->noise))
         return lc_fail(err, LC_EARG, "noise", "must be finite and >= 0, got %g", o->noise);
+    if (o->noise > 0 && o->sampler == LC_SAMPLER_JITTER)
+        return lc_fail(err, LC_EARG, "sampler", "adaptive sampling (noise > 0) stops after "
+                       "any number of samples: it needs 'sobol' or 'random', not 'jitter'");
     if (o->min_samples < 1 || o->min_samples > MAX_SAMPLES)
         return lc_fail(err, LC_EARG, "min_samples", "must be in [1, %d], got %d",
                        MAX_SAMPLES, o->min_samples);
