@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "adaptive.h"
 #include "camera.h"
 #include "error.h"
 #include "image.h"
@@ -67,6 +68,8 @@ typedef struct {
     pthread_mutex_t lock;
     pthread_cond_t  tile_done;
     int             next, done, cancel, running;
+    adaptive       *adaptive;   /* NULL: every pixel takes `samples` */
+    double          base, share;   /* progress: this pass's start and part of all */
 } job;
 
 typedef struct {
@@ -75,10 +78,87 @@ typedef struct {
     pthread_t thread;
 } worker;
 
-/* Sample s of n inside a pixel: the centre for one sample; a jittered
-** k x k grid when n is a square; otherwise independent positions. */
-static void sample_offset(const job *j, uint64_t pixel, int s, int n, double *dx,
-                          double *dy);
+/* A tracer for this render: the switches and counts the compile decided. */
+static void tracer_init(tracer *t, lc_scene *s, const lc_render_options *o)
+{
+    memset(t, 0, sizeof *t);
+    t->scene = s;
+    t->needs = s->c.needs;
+    t->plan = s->c.plan;
+    t->shadows = o->shadows;
+    t->max_depth = s->c.depth;
+    t->cosine = o->cosine;
+    t->cutoff = o->cutoff;
+    t->light_samples = o->light_samples;
+    t->cone_samples = o->cone_samples;
+}
+
+/* Camera sample s of n of pixel (x, y): the pixel centre when the pixel
+** takes one sample, else a point of the pixel's set; through the lens when
+** the camera has one. */
+static radiance camera_sample(const job *j, tracer *t, int x, int y, uint32_t s,
+                              uint32_t n)
+{
+    double u[2] = {0.5, 0.5};
+    if (n > 1)
+        sample_2d(&t->ps, sample_dim(DIM_PIXEL, 0, 0), s, n, u);
+    lc_ray ray = camera_ray(&j->cam, x + u[0], y + u[1]);
+    if (t->needs & LC_NEED_LENS) {
+        sample_2d(&t->ps, sample_dim(DIM_LENS, 0, 0), s, n, u);
+        camera_lens(&j->cam, &ray, u);
+    }
+    t->rays[LC_RAY_CAMERA]++;
+    return trace_ray(t, &ray, s, n);
+}
+
+/* Writes the mean of n samples; under RADIANCE_CAP, so the float is
+** finite (FLT_MAX at most). */
+static void put_pixel(lc_image *img, int x, int y, const double sum[3], uint32_t n)
+{
+    lc_image_set(img, x, y, rgb((float)fmin(sum[0] / n, FLT_MAX),
+                                (float)fmin(sum[1] / n, FLT_MAX),
+                                (float)fmin(sum[2] / n, FLT_MAX)));
+}
+
+static void render_tile(job *j, tracer *t, int tile)
+{
+    const lc_render_options *o = j->o;
+    adaptive *ad = j->adaptive;
+    int x0 = (tile % j->tiles_x) * TILE, y0 = (tile / j->tiles_x) * TILE;
+    int x1 = x0 + TILE < j->img->width ? x0 + TILE : j->img->width;
+    int y1 = y0 + TILE < j->img->height ? y0 + TILE : j->img->height;
+    uint32_t n = (uint32_t)o->samples;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            size_t pixel = (size_t)y * j->img->width + x;
+            if (ad && !ad->active[pixel])
+                continue;
+            t->ps = pixel_sampler_init(o->sampler, o->seed, o->frame, pixel);
+            if (!ad) {
+                double sum[3] = {0, 0, 0};
+                for (uint32_t s = 0; s < n; s++) {
+                    radiance c = camera_sample(j, t, x, y, s, n);
+                    sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
+                }
+                t->samples += n;
+                put_pixel(j->img, x, y, sum, n);
+                continue;
+            }
+            /* Adaptive: on from where the last pass stopped; odd-numbered
+            ** samples also go to the half the error is estimated with. */
+            double *sum = ad->sum + 6 * pixel;
+            uint32_t s = ad->n[pixel];
+            for (; s < ad->target; s++) {
+                radiance c = camera_sample(j, t, x, y, s, n);
+                sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
+                if (s & 1)
+                    sum[3] += c.r, sum[4] += c.g, sum[5] += c.b;
+            }
+            t->samples += s - ad->n[pixel];
+            ad->n[pixel] = s;
+            put_pixel(j->img, x, y, sum, s);
+        }
+}
 
 lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y,
                            int sample, lc_ray_record **records, size_t *n, lc_error *err)
@@ -104,19 +184,10 @@ lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y
     camera_frame_init(&s->camera, o->width, o->height, &j.cam);
     ray_log log = {NULL, NULL, 0, 0, 0};
     tracer t;
-    memset(&t, 0, sizeof t);
-    t.scene = s;
+    tracer_init(&t, s, o);
     t.log = &log;
-    t.needs = s->c.needs;
-    t.plan = s->c.plan;
-    t.shadows = o->shadows;
-    t.max_depth = s->settings.max_depth;
-    t.cosine = o->cosine;
-    t.cutoff = o->cutoff;
-    double dx, dy;
-    sample_offset(&j, (uint64_t)y * o->width + x, sample, o->samples, &dx, &dy);
-    lc_ray ray = camera_ray(&j.cam, x + dx, y + dy);
-    trace_ray(&t, &ray, 0);
+    t.ps = pixel_sampler_init(o->sampler, o->seed, o->frame, (uint64_t)y * o->width + x);
+    camera_sample(&j, &t, x, y, (uint32_t)sample, (uint32_t)o->samples);
     free(log.before);
     if (log.failed) {
         free(log.r);
@@ -126,51 +197,6 @@ lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y
     *n = log.n;
     lc_ok(err);
     return LC_OK;
-}
-
-static void sample_offset(const job *j, uint64_t pixel, int s, int n, double *dx, double *dy)
-{
-    if (n == 1) {
-        *dx = *dy = 0.5;
-        return;
-    }
-    double u1 = rng_u01(j->o->seed, pixel, (uint32_t)s, 0);
-    double u2 = rng_u01(j->o->seed, pixel, (uint32_t)s, 1);
-    int k = (int)sqrt((double)n);
-    if (k * k == n) {
-        *dx = (s % k + u1) / k;
-        *dy = (s / k + u2) / k;
-    } else {
-        *dx = u1;
-        *dy = u2;
-    }
-}
-
-static void render_tile(job *j, tracer *t, int tile)
-{
-    int x0 = (tile % j->tiles_x) * TILE, y0 = (tile / j->tiles_x) * TILE;
-    int x1 = x0 + TILE < j->img->width ? x0 + TILE : j->img->width;
-    int y1 = y0 + TILE < j->img->height ? y0 + TILE : j->img->height;
-    int n = j->o->samples;
-    for (int y = y0; y < y1; y++)
-        for (int x = x0; x < x1; x++) {
-            uint64_t pixel = (uint64_t)y * j->img->width + x;
-            double r = 0, g = 0, b = 0;
-            for (int s = 0; s < n; s++) {
-                double dx, dy;
-                sample_offset(j, pixel, s, n, &dx, &dy);
-                lc_ray ray = camera_ray(&j->cam, x + dx, y + dy);
-                t->rays[LC_RAY_CAMERA]++;
-                radiance c = trace_ray(t, &ray, 0);
-                r += c.r;
-                g += c.g;
-                b += c.b;
-            }
-            /* Under RADIANCE_CAP, so the float is finite (FLT_MAX at most). */
-            lc_image_set(j->img, x, y, rgb((float)fmin(r / n, FLT_MAX),
-                                           (float)fmin(g / n, FLT_MAX),
-                                           (float)fmin(b / n, FLT_MAX)));
-        }
 }
 
 static void *work(void *arg)
@@ -223,6 +249,9 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
                        LC_MAX_DEPTH, o->max_depth);
     if (!(o->noise >= 0 && o->noise <= HUGE_VAL) || isinf(o->noise))
         return lc_fail(err, LC_EARG, "noise", "must be finite and >= 0, got %g", o->noise);
+    if (o->noise > 0 && o->sampler == LC_SAMPLER_JITTER)
+        return lc_fail(err, LC_EARG, "sampler", "adaptive sampling (noise > 0) stops after "
+                       "any number of samples: it needs 'sobol' or 'random', not 'jitter'");
     if (o->min_samples < 1 || o->min_samples > MAX_SAMPLES)
         return lc_fail(err, LC_EARG, "min_samples", "must be in [1, %d], got %d",
                        MAX_SAMPLES, o->min_samples);
@@ -241,6 +270,60 @@ static volatile sig_atomic_t interrupts;
 void lc_interrupt(void)
 {
     interrupts++;
+}
+
+/* Runs every tile of one pass on the workers (tracers kept across passes)
+** while this thread reports progress and honours cancel. Returns the
+** number of threads that ran. */
+static int run_pass(job *j, worker *ws, int nt)
+{
+    const lc_render_options *o = j->o;
+    j->next = j->done = 0;
+    int started = 0;
+    for (int i = 0; i < nt; i++) {
+        ws[i].j = j;
+        pthread_mutex_lock(&j->lock);
+        j->running++;
+        pthread_mutex_unlock(&j->lock);
+        if (pthread_create(&ws[i].thread, NULL, work, &ws[i]) != 0) {
+            pthread_mutex_lock(&j->lock);
+            j->running--;
+            pthread_mutex_unlock(&j->lock);
+            break;
+        }
+        started++;
+    }
+    if (started == 0) {     /* no thread could start: trace on this one */
+        j->running = 1;
+        work(&ws[0]);
+    }
+    /* The calling thread reports progress between tiles and honours cancel. */
+    sig_atomic_t interrupts_seen = interrupts;
+    pthread_mutex_lock(&j->lock);
+    while (j->running > 0) {
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_nsec += 100000000;
+        if (until.tv_nsec >= 1000000000) {
+            until.tv_sec++;
+            until.tv_nsec -= 1000000000;
+        }
+        pthread_cond_timedwait(&j->tile_done, &j->lock, &until);
+        if (interrupts != interrupts_seen)
+            j->cancel = 1;
+        if (o->progress && !j->cancel) {
+            double done = j->base + j->share * j->done / j->ntiles;
+            pthread_mutex_unlock(&j->lock);
+            int stop = o->progress(o->progress_ud, done);
+            pthread_mutex_lock(&j->lock);
+            if (stop)
+                j->cancel = 1;
+        }
+    }
+    pthread_mutex_unlock(&j->lock);
+    for (int i = 0; i < started; i++)
+        pthread_join(ws[i].thread, NULL);
+    return started ? started : 1;
 }
 
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
@@ -275,66 +358,33 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     }
     if (nt > j.ntiles)
         nt = j.ntiles;
+    adaptive ad;
     worker *ws = calloc((size_t)nt, sizeof *ws);
-    if (!ws) {
-        lc_image_free(img);
+    if (!ws)
         lc_fail(err, LC_ENOMEM, NULL, "out of memory starting %d threads", nt);
+    if (!ws || (o->noise > 0 && adaptive_init(&ad, o, err))) {
+        free(ws);
+        lc_image_free(img);
         return NULL;
     }
+    for (int i = 0; i < nt; i++)
+        tracer_init(&ws[i].t, s, o);
     pthread_mutex_init(&j.lock, NULL);
     pthread_cond_init(&j.tile_done, NULL);
-    int started = 0;
-    for (int i = 0; i < nt; i++) {
-        ws[i].j = &j;
-        ws[i].t.scene = s;
-        ws[i].t.needs = s->c.needs;
-        ws[i].t.shadows = o->shadows;
-        ws[i].t.plan = s->c.plan;
-        ws[i].t.max_depth = s->settings.max_depth;
-        ws[i].t.cosine = o->cosine;
-        ws[i].t.cutoff = o->cutoff;
-        pthread_mutex_lock(&j.lock);
-        j.running++;
-        pthread_mutex_unlock(&j.lock);
-        if (pthread_create(&ws[i].thread, NULL, work, &ws[i]) != 0) {
-            pthread_mutex_lock(&j.lock);
-            j.running--;
-            pthread_mutex_unlock(&j.lock);
-            break;
-        }
-        started++;
+    int threads;
+    j.share = 1;
+    if (o->noise > 0) {
+        /* Passes to min_samples, then doubling: progress by samples' worth. */
+        j.adaptive = &ad;
+        double total = log2((double)ad.max / ad.target) + 1;
+        do {
+            j.share = 1 / total;
+            threads = run_pass(&j, ws, nt);
+            j.base += j.share;
+        } while (!j.cancel && adaptive_next(&ad));
+    } else {
+        threads = run_pass(&j, ws, nt);
     }
-    if (started == 0) {     /* no thread could start: trace on this one */
-        ws[0].j = &j;
-        j.running = 1;
-        work(&ws[0]);
-    }
-    /* The calling thread reports progress between tiles and honours cancel. */
-    sig_atomic_t interrupts_seen = interrupts;
-    pthread_mutex_lock(&j.lock);
-    while (j.running > 0) {
-        struct timespec until;
-        clock_gettime(CLOCK_REALTIME, &until);
-        until.tv_nsec += 100000000;
-        if (until.tv_nsec >= 1000000000) {
-            until.tv_sec++;
-            until.tv_nsec -= 1000000000;
-        }
-        pthread_cond_timedwait(&j.tile_done, &j.lock, &until);
-        if (interrupts != interrupts_seen)
-            j.cancel = 1;
-        if (o->progress && !j.cancel) {
-            double done = (double)j.done / j.ntiles;
-            pthread_mutex_unlock(&j.lock);
-            int stop = o->progress(o->progress_ud, done);
-            pthread_mutex_lock(&j.lock);
-            if (stop)
-                j.cancel = 1;
-        }
-    }
-    pthread_mutex_unlock(&j.lock);
-    for (int i = 0; i < started; i++)
-        pthread_join(ws[i].thread, NULL);
     double t2 = clock_seconds();
 
     lc_stats sum;
@@ -343,8 +393,13 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         for (int k = 0; k < LC_RAY_KINDS; k++)
             sum.rays[k] += ws[i].t.rays[k];
         sum.self_hits += ws[i].t.self_hits;
+        sum.samples += ws[i].t.samples;
         sum.prim_tests += ws[i].t.counts.prims;
         sum.node_tests += ws[i].t.counts.nodes;
+    }
+    if (j.adaptive) {
+        sum.converged = adaptive_converged(&ad);
+        adaptive_free(&ad);
     }
     sum.compile_seconds = t1 - t0;
     sum.trace_seconds = t2 - t1;
@@ -354,7 +409,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     sum.primitives = s->nspheres + s->nquads + s->nboxes + s->nplanes + s->c.ntris;
     sum.degenerate = s->c.degenerate;
     memcpy(sum.why, s->c.why, sizeof sum.why);
-    sum.threads = started ? started : 1;
+    sum.threads = threads;
     int cancelled = j.cancel;
     free(ws);
     pthread_mutex_destroy(&j.lock);
