@@ -67,6 +67,28 @@ function M.on_render(img, stats)
   end
 end
 
+-- One line for an object: its own __tostring, or for a plain record its
+-- fields in key order (numbers short, vectors as {x, y, z}).
+local function describe(obj)
+  local mt = getmetatable(obj)
+  if type(obj) ~= "table" or (mt and mt.__tostring) then return tostring(obj) end
+  local function show(v)
+    if math.type(v) == "float" then return ("%.4g"):format(v) end
+    if type(v) == "table" and #v > 0 then
+      local parts = {}
+      for k, x in ipairs(v) do parts[k] = show(x) end
+      return "{" .. table.concat(parts, ", ") .. "}"
+    end
+    return tostring(v)
+  end
+  local keys = {}
+  for k in pairs(obj) do if type(k) == "string" then keys[#keys + 1] = k end end
+  table.sort(keys)
+  local parts = {}
+  for _, k in ipairs(keys) do parts[#parts + 1] = k .. " = " .. show(obj[k]) end
+  return "{" .. table.concat(parts, ", ") .. "}"
+end
+
 -- ls(scene): the scene's objects, numbered, for scene:remove(scene:objects()[i]).
 function M.ls(scene)
   local name = tostring(scene)
@@ -80,7 +102,7 @@ function M.ls(scene)
     return
   end
   for i, obj in ipairs(scene:objects()) do
-    print(("%4d  %s"):format(i, tostring(obj)))
+    print(("%4d  %s"):format(i, describe(obj)))
   end
 end
 

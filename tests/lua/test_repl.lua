@@ -157,3 +157,23 @@ T.test("ls(scene) lists the scene; show() says why it cannot draw", function()
   T.check_error(function() repl.ls(42) end, "test_repl.lua:",
                 "bad argument #1 to 'ls' (lancer.Scene expected, got 42)")
 end)
+
+T.test("ls(scene): one numbered line per object, records by their fields", function()
+  local repl = require "lancer.repl"
+  local fake = setmetatable({}, {__tostring = function() return "lancer.Scene (fake)" end})
+  function fake.objects()
+    return {{id = 4, kind = "sphere", center = {0, 0.5, 0}, radius = 1.25},
+            lancer.point_light{position = {1, 2, 3}, intensity = 5}}
+  end
+  local printed = {}
+  local saved_print = print
+  print = function(...) printed[#printed + 1] = table.concat({...}, "\t") end
+  local ok, err = pcall(repl.ls, fake)
+  print = saved_print
+  assert(ok, err)
+  T.eq(#printed, 3, "lines")
+  T.eq(printed[1], "lancer.Scene (fake)", "header")
+  T.eq(printed[2], "   1  {center = {0, 0.5, 0}, id = 4, kind = sphere, radius = 1.25}", "record")
+  T.eq(printed[3], "   2  " .. tostring(lancer.point_light{position = {1, 2, 3}, intensity = 5}),
+       "object with __tostring")
+end)
