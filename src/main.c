@@ -104,7 +104,8 @@ static void print_usage(void)
 "  --skip-existing\n"
 "                leave frames whose file exists (files appear whole, by rename)\n"
 "  --list-frames print the selected frames' paths, render nothing\n"
-"  -o PATTERN    write frames to PATTERN (out/f_%04d.png or out/f_####.png)\n"
+"  -o PATTERN    write frames to PATTERN (out/f_%04d.png or out/f_####.png);\n"
+"                also --output PATTERN\n"
 "  --video FILE  then assemble every frame with ffmpeg (.mp4 .mkv .mov .webm .gif)\n"
 "  Each frame logs one line on stderr; a failed frame does not stop the others,\n"
 "  and the exit status is then 1.\n"
@@ -114,8 +115,9 @@ static void print_usage(void)
 "\n"
 "The script sees its arguments in 'arg' and '...', as with lua5.4.\n"
 "math.random starts from a fixed seed, so a script renders the same each run.\n"
-"The prompt prints the value of an expression; its history is kept in\n"
-"~/" HISTORY_FILE ". Ctrl-C interrupts running code, Ctrl-D quits.\n"
+"The prompt prints the value of an expression, draws each render in the\n"
+"terminal and saves it to out/repl_NNN.png; its history is kept in\n"
+"~/" HISTORY_FILE ". Ctrl-C interrupts running code or a render, Ctrl-D quits.\n"
 "\n"
 "Exit status: 0 success, 1 script error, 2 usage error, 3 unstable (--check).\n", stdout);
 }
