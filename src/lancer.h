@@ -154,6 +154,11 @@ int       lc_scene_add_material(lc_scene *s, const lc_material *m, lc_error *err
 int       lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material,
                              lc_error *err);            /* id >= 0, or -1 */
 int       lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err);
+/* The mesh moved by t, as an instance: however many times a mesh is added
+** this way, its faces and their BVH are stored once. (The identity adds it
+** as lc_scene_add_mesh does: its triangles join the scene's own BVH.) */
+int       lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t,
+                                  int material, lc_error *err);
 int       lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err);
 /* A copy scaled by `scale` about the origin and moved by `offset`, point-light
 ** intensities times scale^2: an exact renderer draws the same picture. */
