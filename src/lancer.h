@@ -167,6 +167,32 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 offset,
 size_t    lc_scene_shape_count(const lc_scene *s);     /* shapes and meshes */
 size_t    lc_scene_light_count(const lc_scene *s);
 
+/* ---- Scene objects: listing and removing ------------------------------------ */
+
+/* Every lc_scene_add_* (shape, mesh or light) returns the next id: 0, 1, 2...
+** An id names its object until it is removed, and is never given again. */
+typedef enum { LC_OBJECT_SHAPE, LC_OBJECT_MESH, LC_OBJECT_LIGHT } lc_object_kind;
+
+typedef struct {
+    int            id;
+    lc_object_kind kind;
+    int            material;   /* shapes and meshes: the material's index; lights: -1 */
+    lc_shape       shape;      /* shapes, as stored: in the world, plane normals unit */
+    lc_mesh       *mesh;       /* meshes: borrowed; the scene holds it */
+    int            moved;      /* meshes: added with a transform (an instance) */
+    lc_transform   transform;  /* meshes: that transform, else the identity */
+    lc_point_light light;      /* lights */
+} lc_object;
+
+size_t    lc_scene_object_count(const lc_scene *s);
+/* Fills out[0, min(n, count)) with the objects in the order added; returns count. */
+size_t    lc_scene_objects(const lc_scene *s, lc_object *out, size_t n);
+lc_status lc_scene_object(const lc_scene *s, int id, lc_object *out, lc_error *err);
+/* Removes the object `id`; the others keep their ids. The scene is then
+** exactly as if it had never been added (the next render compiles again),
+** except that its material stays in the material list. */
+lc_status lc_scene_remove(lc_scene *s, int id, lc_error *err);
+
 /* ---- Rendering ------------------------------------------------------------- */
 
 typedef struct lc_image lc_image;
