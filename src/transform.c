@@ -140,14 +140,14 @@ lc_status lc_transform_check(const lc_transform *t, lc_error *err)
         for (int j = 0; j < 4; j++)
             if (!isfinite(t->m[i][j]))
                 return lc_fail(err, LC_EARG, "transform",
-                               "entry (%d, %d) must be finite, got %g", i + 1, j + 1,
+                               "transform entry (%d, %d) must be finite, got %g", i + 1, j + 1,
                                t->m[i][j]);
     double cof[3][3], bound;
     double det = cofactors(t, cof, &bound);
     /* Relative to its own rounding: a scale of 1e-100 is fine, a flattening
     ** (a zero scale, two parallel axes) or an underflowing det is not. */
     if (!(fabs(det) > bound))
-        return lc_fail(err, LC_EARG, "transform", "is singular (determinant %g): it "
+        return lc_fail(err, LC_EARG, "transform", "transform is singular (determinant %g): it "
                        "flattens space and cannot be undone", det);
     lc_ok(err);
     return LC_OK;
@@ -169,7 +169,7 @@ lc_status lc_transform_inverse(const lc_transform *t, lc_transform *out, lc_erro
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 4; j++)
             if (!isfinite(r.m[i][j]))
-                return lc_fail(err, LC_EARG, "transform", "has no finite inverse "
+                return lc_fail(err, LC_EARG, "transform", "transform has no finite inverse "
                                "(determinant %g)", det);
     *out = r;
     return LC_OK;
