@@ -1,5 +1,6 @@
 /* compile.c: what a render needs from the scene: the BVH over every bounded
-** primitive, the triangle list, and the effects the frame calls for. */
+** primitive (moved meshes as one primitive each), the triangle list, and the
+** effects the frame calls for. */
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
@@ -52,9 +53,10 @@ static int degenerate(const double *a, const double *b, const double *c)
 static lc_status list_triangles(lc_scene *s, lc_error *err)
 {
     compiled *c = &s->c;
-    size_t total = 0;
+    size_t total = instances_faces(s);         /* listed once, after the flat ones */
     for (size_t i = 0; i < s->nmeshes; i++)
-        total += s->meshes[i].mesh->nf;
+        if (!s->meshes[i].xf)
+            total += s->meshes[i].mesh->nf;
     if (total > PRIM_MAX)
         return lc_fail(err, LC_EARG, NULL, "too many triangles: %zu (at most %zu)", total,
                        PRIM_MAX);
@@ -63,6 +65,8 @@ static lc_status list_triangles(lc_scene *s, lc_error *err)
         return lc_fail(err, LC_ENOMEM, NULL, "out of memory listing %zu triangles", total);
     for (size_t i = 0; i < s->nmeshes; i++) {
         const lc_mesh *m = s->meshes[i].mesh;
+        if (s->meshes[i].xf)
+            continue;
         for (size_t f = 0; f < m->nf; f++) {
             const uint32_t *ix = m->f + 3 * f;
             if (degenerate(m->v + 3 * ix[0], m->v + 3 * ix[1], m->v + 3 * ix[2])) {
@@ -73,8 +77,8 @@ static lc_status list_triangles(lc_scene *s, lc_error *err)
             c->tris[c->ntris++].face = (uint32_t)f;
         }
     }
-    c->faces_seen = total;
-    return LC_OK;
+    c->nflat = c->ntris;
+    return instances_compile(s, err);
 }
 
 static void item_init(bvh_item *it, uint32_t id)
@@ -86,7 +90,7 @@ static void item_init(bvh_item *it, uint32_t id)
 static lc_status build_bvh(lc_scene *s, lc_error *err)
 {
     compiled *c = &s->c;
-    size_t n = s->nspheres + s->nquads + s->nboxes + c->ntris;
+    size_t n = s->nspheres + s->nquads + s->nboxes + c->nflat + c->ninstances;
     bvh_item *items = malloc((n + 1) * sizeof *items);
     if (!items)
         return lc_fail(err, LC_ENOMEM, NULL, "out of memory bounding %zu primitives", n);
@@ -116,7 +120,7 @@ static lc_status build_bvh(lc_scene *s, lc_error *err)
             grow(it->lo, it->hi, p);
         }
     }
-    for (size_t i = 0; i < c->ntris; i++, it++) {
+    for (size_t i = 0; i < c->nflat; i++, it++) {
         const lc_mesh *m = s->meshes[c->tris[i].mesh].mesh;
         const uint32_t *ix = m->f + 3 * c->tris[i].face;
         item_init(it, PRIM_ID(PRIM_TRIANGLE, i));
@@ -129,6 +133,12 @@ static lc_status build_bvh(lc_scene *s, lc_error *err)
             }
         }
     }
+    for (size_t i = 0; i < s->nmeshes; i++)
+        if (s->meshes[i].xf) {
+            it->id = PRIM_ID(PRIM_INSTANCE, i);
+            instance_bounds(s, i, it->lo, it->hi);
+            it++;
+        }
     return bvh_build(&c->bvh, items, n, err);
 }
 
@@ -305,6 +315,7 @@ lc_status scene_compile(lc_scene *s, const lc_render_options *o, lc_error *err)
             return st;
         }
         c->valid = 1;
+        c->faces_seen = faces;
     }
     if (decide_needs(s, o, err)) {
         compiled_free(c);

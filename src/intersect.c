@@ -30,27 +30,9 @@ static void query_init(query *q, const lc_ray *r, int triangles)
         tri_shear_init(r->d, &q->sh);
 }
 
-/* Roundings in a slab distance (bound - o) * inv: the subtraction, the
-** reciprocal and the product. */
-#define RECIPROCAL_GAMMA 3
-
-/* Slab test of a node: returns its entry distance, or +inf when the ray
-** misses it before tmax. The far distance is enlarged by 1 + 2 gamma(n), n
-** the roundings above, so they can never turn a hit into a miss (Ize 2013,
-** pbrt-v4); NaN from 0 * inf is ignored by the comparisons. */
 static inline double node_enter(const bvh_node *nd, const query *q, double tmax)
 {
-    static const double widen = 1 + 2 * (RECIPROCAL_GAMMA * (DBL_EPSILON / 2)) /
-                                    (1 - RECIPROCAL_GAMMA * (DBL_EPSILON / 2));
-    double t0 = 0, t1 = tmax;
-    for (int k = 0; k < 3; k++) {
-        double a = (nd->lo[k] - q->o[k]) * q->inv[k];
-        double b = (nd->hi[k] - q->o[k]) * q->inv[k];
-        double near = q->neg[k] ? b : a, far = (q->neg[k] ? a : b) * widen;
-        t0 = near > t0 ? near : t0;
-        t1 = far < t1 ? far : t1;
-    }
-    return t0 <= t1 ? t0 : HUGE_VAL;
+    return bvh_enter(nd, q->o, q->inv, q->neg, tmax);
 }
 
 /* Distance to primitive id along the query's ray, 0 for a miss. Spheres,
@@ -58,7 +40,7 @@ static inline double node_enter(const bvh_node *nd, const query *q, double tmax)
 ** later); quads and triangles need most of the work anyway to know they
 ** are hit, so they fill *full as they go. */
 static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, double tmax,
-                     lc_hit *full)
+                     lc_hit *full, lc_counts *inner)
 {
     uint32_t i = PRIM_INDEX(id);
     switch (PRIM_KIND(id)) {
@@ -84,6 +66,8 @@ static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, doub
         full->material = mp->material;
         break;
     }
+    case PRIM_INSTANCE:           /* a moved mesh: its own BVH, in its own space */
+        return instance_hit(s, i, q->r, tmax, full, inner);
     }
     full->shape = id;
     return full->t;
@@ -118,6 +102,8 @@ static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t,
 /* Interpolated vertex normals, where the mesh has them. */
 static void shading_normal(const lc_scene *s, lc_hit *h)
 {
+    if (PRIM_KIND(h->shape) == PRIM_TRIANGLE && PRIM_INDEX(h->shape) >= s->c.nflat)
+        return;                            /* an instance's: set in the world already */
     h->ns = h->n;
     if (PRIM_KIND(h->shape) != PRIM_TRIANGLE)
         return;
@@ -146,20 +132,22 @@ int scene_closest_n(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h,
                     lc_counts *counts)
 {
     uint64_t np = s->nplanes, nn = 0;   /* counted in registers, added once */
+    lc_counts inner = {0, 0};           /* inside instances */
     query q;
-    query_init(&q, r, s->c.ntris > 0);
+    query_init(&q, r, s->c.nflat > 0);
     double best = 0;
     uint32_t best_id = 0;
     lc_hit tmp;
 #define CONSIDER(id)                                                             \
     {                                                                            \
         uint32_t id_ = (id);                                                     \
-        double t_ = prim_t(s, id_, &q, tmax, &tmp);                              \
+        double t_ = prim_t(s, id_, &q, tmax, &tmp, &inner);                      \
         np++;                                                                    \
         if (t_ > 0 && (best == 0 || t_ < best || (t_ == best && id_ < best_id))) { \
             best = t_;                                                           \
             best_id = id_;                                                       \
-            if (PRIM_KIND(id_) == PRIM_QUAD || PRIM_KIND(id_) == PRIM_TRIANGLE)  \
+            if (PRIM_KIND(id_) == PRIM_QUAD || PRIM_KIND(id_) == PRIM_TRIANGLE || \
+                PRIM_KIND(id_) == PRIM_INSTANCE)                                 \
                 *h = tmp;                                                        \
             tmax = next_up(t_);                                                  \
         }                                                                        \
@@ -214,8 +202,8 @@ int scene_closest_n(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h,
 done:
 #undef CONSIDER
     if (counts) {
-        counts->prims += np;
-        counts->nodes += nn;
+        counts->prims += np + inner.prims;
+        counts->nodes += nn + inner.nodes;
     }
     if (best == 0 || !prim_finish(s, best_id, &q, best, h))
         return 0;
@@ -228,8 +216,9 @@ static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint64_t *n
                     uint64_t *nn)
 {
     query q;
-    query_init(&q, r, s->c.ntris > 0);
+    query_init(&q, r, s->c.nflat > 0);
     lc_hit tmp;
+    lc_counts inner = {0, 0};
     for (size_t i = 0; i < s->nplanes; i++) {
         ++*np;
         if (plane_t(&s->planes[i].g, q.r, q.inv, 0, tmax) > 0)
@@ -248,9 +237,18 @@ static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint64_t *n
         const bvh_node *nd = &b->nodes[ni];
         if (nd->count) {
             for (uint32_t k = 0; k < nd->count; k++) {
+                uint32_t id = b->refs[nd->start + k];
                 ++*np;
-                if (prim_t(s, b->refs[nd->start + k], &q, tmax, &tmp) > 0)
+                if (PRIM_KIND(id) == PRIM_INSTANCE) {
+                    int hit = instance_occluded(s, PRIM_INDEX(id), r, tmax, &inner);
+                    *np += inner.prims;
+                    *nn += inner.nodes;
+                    inner.prims = inner.nodes = 0;
+                    if (hit)
+                        return 1;
+                } else if (prim_t(s, id, &q, tmax, &tmp, &inner) > 0) {
                     return 1;
+                }
             }
         } else {
             uint32_t c0 = ni + 1, c1 = nd->start;

@@ -63,6 +63,33 @@ typedef struct {
 
 lc_status lc_shape_check(const lc_shape *s, lc_error *err); /* sizes, NaN, parallel */
 
+/* ---- Transforms ------------------------------------------------------------ */
+
+/* An affine map x' = M x + t, row-major: m[i][0..2] is row i of M, m[i][3]
+** is t[i]. Compose right to left, as matrices do: (a after b)(x) = a(b(x)). */
+typedef struct { double m[3][4]; } lc_transform;
+
+lc_transform lc_transform_identity(void);
+lc_transform lc_transform_translate(lc_vec3 t);
+lc_transform lc_transform_scale(lc_vec3 s);             /* 0 makes it singular */
+/* A rotation by `degrees` about `axis` through the origin, counter-clockwise
+** seen from the axis' tip (right-handed); exact at multiples of 90 degrees. */
+lc_status    lc_transform_rotate(lc_vec3 axis, double degrees, lc_transform *out,
+                                 lc_error *err);
+lc_transform lc_transform_compose(const lc_transform *a, const lc_transform *b); /* a after b */
+/* Finite entries and an invertible M (|det| above its own rounding error). */
+lc_status    lc_transform_check(const lc_transform *t, lc_error *err);
+lc_status    lc_transform_inverse(const lc_transform *t, lc_transform *out, lc_error *err);
+int          lc_transform_is_identity(const lc_transform *t);
+lc_vec3      lc_transform_point(const lc_transform *t, lc_vec3 p);   /* M p + t */
+lc_vec3      lc_transform_vector(const lc_transform *t, lc_vec3 v);  /* M v */
+/* The shape moved by t, exactly where affine maps keep its kind: quads and
+** boxes (corner and edges), planes (point; normal by the inverse transpose),
+** spheres under rotation, translation and uniform scale. A sphere under a
+** non-uniform scale or a shear is refused: it would be an ellipsoid. */
+lc_status    lc_shape_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
+                                lc_error *err);
+
 /* ---- Meshes ---------------------------------------------------------------- */
 
 /* A triangle mesh; scenes that hold it keep it alive, so the same mesh can be
@@ -127,13 +154,44 @@ int       lc_scene_add_material(lc_scene *s, const lc_material *m, lc_error *err
 int       lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material,
                              lc_error *err);            /* id >= 0, or -1 */
 int       lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err);
+/* The mesh moved by t, as an instance: however many times a mesh is added
+** this way, its faces and their BVH are stored once. (The identity adds it
+** as lc_scene_add_mesh does: its triangles join the scene's own BVH.) */
+int       lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t,
+                                  int material, lc_error *err);
 int       lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err);
 /* A copy scaled by `scale` about the origin and moved by `offset`, point-light
 ** intensities times scale^2: an exact renderer draws the same picture. */
 lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 offset,
                                lc_error *err);
-size_t    lc_scene_shape_count(const lc_scene *s);
+size_t    lc_scene_shape_count(const lc_scene *s);     /* shapes and meshes */
 size_t    lc_scene_light_count(const lc_scene *s);
+
+/* ---- Scene objects: listing and removing ------------------------------------ */
+
+/* Every lc_scene_add_* (shape, mesh or light) returns the next id: 0, 1, 2...
+** An id names its object until it is removed, and is never given again. */
+typedef enum { LC_OBJECT_SHAPE, LC_OBJECT_MESH, LC_OBJECT_LIGHT } lc_object_kind;
+
+typedef struct {
+    int            id;
+    lc_object_kind kind;
+    int            material;   /* shapes and meshes: the material's index; lights: -1 */
+    lc_shape       shape;      /* shapes, as stored: in the world, plane normals unit */
+    lc_mesh       *mesh;       /* meshes: borrowed; the scene holds it */
+    int            moved;      /* meshes: added with a transform (an instance) */
+    lc_transform   transform;  /* meshes: that transform, else the identity */
+    lc_point_light light;      /* lights */
+} lc_object;
+
+size_t    lc_scene_object_count(const lc_scene *s);
+/* Fills out[0, min(n, count)) with the objects in the order added; returns count. */
+size_t    lc_scene_objects(const lc_scene *s, lc_object *out, size_t n);
+lc_status lc_scene_object(const lc_scene *s, int id, lc_object *out, lc_error *err);
+/* Removes the object `id`; the others keep their ids. The scene is then
+** exactly as if it had never been added (the next render compiles again),
+** except that its material stays in the material list. */
+lc_status lc_scene_remove(lc_scene *s, int id, lc_error *err);
 
 /* ---- Rendering ------------------------------------------------------------- */
 

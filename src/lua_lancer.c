@@ -27,6 +27,8 @@ int luaopen_lancer_core(lua_State *L)
     mesh_register(L);
     scene_register(L);
     image_register(L);
+    motion_register(L);
+    scene_objects_register(L);
     lua_pushstring(L, LC_VERSION);
     lua_setfield(L, -2, "version");
     lua_pushstring(L, "lancer " LC_VERSION);

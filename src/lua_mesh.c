@@ -305,7 +305,7 @@ void mesh_register(lua_State *L)
         {"__index", w_mesh_index}, {NULL, NULL}};
     static const luaL_Reg mesh_methods[] = {
         {"add_vertices", w_mesh_add_vertices}, {"add_faces", w_mesh_add_faces},
-        {"add_normals", w_mesh_add_normals}, {NULL, NULL}};
+        {"add_normals", w_mesh_add_normals}, {"moved", motion_moved}, {NULL, NULL}};
     static const luaL_Reg funcs[] = {
         {"mesh", w_mesh}, {"triangle", w_triangle}, {"load_obj", w_load_obj},
         {NULL, NULL}};

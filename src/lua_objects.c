@@ -127,6 +127,23 @@ static int push_shape(lua_State *L, const lc_shape *s)
     return 1;
 }
 
+void push_shape_value(lua_State *L, const lc_shape *s, int mat)
+{
+    mat = lua_absindex(L, mat);
+    ud_shape *u = lua_newuserdatauv(L, sizeof *u, 1);
+    u->s = *s;
+    lua_pushvalue(L, mat);
+    lua_setiuservalue(L, -2, 1);
+    luaL_setmetatable(L, SHAPE);
+}
+
+void push_light_value(lua_State *L, const lc_point_light *l)
+{
+    ud_light *u = lua_newuserdatauv(L, sizeof *u, 0);
+    u->l = *l;
+    luaL_setmetatable(L, LIGHT);
+}
+
 static int w_sphere(lua_State *L)
 {
     static const char *const known[] = {"center", "radius", "material", NULL};
@@ -253,6 +270,7 @@ static int w_shape_index(lua_State *L)
     else if (!sph && !pl && strcmp(k, "u") == 0) lf_push_vec3(L, s->u);
     else if (!sph && !pl && strcmp(k, "v") == 0) lf_push_vec3(L, s->v);
     else if (s->kind == LC_BOX && strcmp(k, "w") == 0) lf_push_vec3(L, s->w);
+    else if (strcmp(k, "moved") == 0) lua_pushcfunction(L, motion_moved);
     else lua_pushnil(L);
     return 1;
 }
@@ -308,6 +326,7 @@ static int w_light_index(lua_State *L)
     else if (strcmp(k, "color") == 0) lf_push_color(L, l->color);
     else if (strcmp(k, "intensity") == 0) lua_pushnumber(L, l->intensity);
     else if (strcmp(k, "falloff") == 0) lua_pushstring(L, falloff_opts[l->falloff]);
+    else if (strcmp(k, "moved") == 0) lua_pushcfunction(L, motion_moved);
     else lua_pushnil(L);
     return 1;
 }

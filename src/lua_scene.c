@@ -25,10 +25,7 @@ static int w_records_free(lua_State *L)
     return 0;
 }
 
-/* A scene's user value is a table: [1] its camera userdata, [2] a table from
-** material userdata to the index the core gave it (so a material shared by a
-** million spheres is stored once), [3] the index of the default material. */
-enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3 };
+/* The scene's user value: see SC_CAMERA in lua_types.h. */
 
 static ud_scene *check_scene(lua_State *L, int idx)
 {
@@ -83,9 +80,11 @@ static int w_scene(lua_State *L)
     u->s = NULL;
     luaL_setmetatable(L, SCENE);
     int sidx = lua_gettop(L);
-    lua_createtable(L, 3, 0);
+    lua_createtable(L, 4, 0);
     lua_newtable(L);
     lua_rawseti(L, -2, SC_MATERIALS);
+    lua_newtable(L);
+    lua_rawseti(L, -2, SC_MESHES);
     lua_setiuservalue(L, sidx, 1);
     lc_error err;
     u->s = lc_scene_new(&err);
@@ -148,24 +147,75 @@ static int material_index(lua_State *L, ud_scene *u, int sidx, int midx, int arg
     return index;
 }
 
-/* Raises unless the value at idx is a shape, a light or an array of them,
-** so that a bad call to add leaves the scene as it was. */
-static void check_addable(lua_State *L, int idx, int arg, int depth, lua_Integer elem)
+/* The group at idx moves its members by its transform after xf's (NULL:
+** none); fills *out and returns it. */
+static const lc_transform *group_xf(lua_State *L, int idx, const lc_transform *xf,
+                                    lc_transform *out)
+{
+    const ud_group *g = lua_touserdata(L, idx);
+    *out = xf ? lc_transform_compose(xf, &g->t) : g->t;
+    return out;
+}
+
+static void element_error(lua_State *L, int arg, lua_Integer elem, const char *msg)
+{
+    if (elem)
+        lua_pushfstring(L, "element %I: %s", elem, msg);
+    else
+        lua_pushstring(L, msg);
+    luaL_argerror(L, arg, lua_tostring(L, -1));
+}
+
+/* Raises unless the value at idx is a shape, a light, a group or an array
+** of them that can be moved by xf (NULL: not moved), so that a bad call to
+** add leaves the scene as it was. */
+static void check_addable(lua_State *L, int idx, int arg, int depth, lua_Integer elem,
+                          const lc_transform *xf)
 {
     idx = lua_absindex(L, idx);
-    if (luaL_testudata(L, idx, SHAPE) || luaL_testudata(L, idx, LIGHT))
+    lc_error err;
+    ud_shape *sh = luaL_testudata(L, idx, SHAPE);
+    if (sh) {
+        lc_shape out;
+        if (xf && lc_shape_transform(&sh->s, xf, &out, &err))
+            element_error(L, arg, elem, err.msg);
         return;
+    }
+    ud_light *li = luaL_testudata(L, idx, LIGHT);
+    if (li) {
+        lc_point_light l = li->l;
+        if (xf)
+            l.position = lc_transform_point(xf, l.position);
+        if (lc_point_light_check(&l, &err))
+            element_error(L, arg, elem, err.msg);
+        return;
+    }
     ud_mesh *me = luaL_testudata(L, idx, MESH);
     if (me) {
         if (!me->m)
             luaL_argerror(L, arg, "lancer.Mesh already freed");
+        if (xf && lc_transform_check(xf, &err))
+            element_error(L, arg, elem, err.msg);
         return;
     }
-    if (lua_type(L, idx) == LUA_TTABLE && depth < 8) {
+    if (luaL_testudata(L, idx, GROUP) && depth < 64) {
+        lc_transform g;
+        xf = group_xf(L, idx, xf, &g);
+        lua_getiuservalue(L, idx, 1);
+        lua_Integer n = luaL_len(L, -1);
+        for (lua_Integer i = 1; i <= n; i++) {
+            lua_geti(L, -1, i);
+            check_addable(L, -1, arg, depth + 1, elem ? elem : i, xf);
+            lua_pop(L, 1);
+        }
+        lua_pop(L, 1);
+        return;
+    }
+    if (lua_type(L, idx) == LUA_TTABLE && depth < 64) {
         lua_Integer n = luaL_len(L, idx);
         for (lua_Integer i = 1; i <= n; i++) {
             lua_geti(L, idx, i);
-            check_addable(L, -1, arg, depth + 1, i);
+            check_addable(L, -1, arg, depth + 1, i, xf);
             lua_pop(L, 1);
         }
         return;
@@ -174,24 +224,28 @@ static void check_addable(lua_State *L, int idx, int arg, int depth, lua_Integer
     if (luaL_getmetafield(L, idx, "__name") == LUA_TSTRING)
         got = lua_tostring(L, -1);
     if (elem)
-        lua_pushfstring(L, "element %I: shape, mesh, light or array of them expected, got %s",
-                        elem, got);
+        lua_pushfstring(L, "element %I: shape, mesh, light, group or array of them "
+                        "expected, got %s", elem, got);
     else
-        lua_pushfstring(L, "shape, mesh, light or array of them expected, got %s", got);
+        lua_pushfstring(L, "shape, mesh, light, group or array of them expected, got %s",
+                        got);
     luaL_argerror(L, arg, lua_tostring(L, -1));
 }
 
-/* Adds the object at idx, already checked: a shape, a light, or an array. */
-static void add_one(lua_State *L, ud_scene *u, int idx, int arg, int depth)
+/* Adds the object at idx, already checked, moved by xf (NULL: as it is). */
+static void add_one(lua_State *L, ud_scene *u, int idx, int arg, const lc_transform *xf)
 {
     lc_error err;
     idx = lua_absindex(L, idx);
     ud_shape *sh = luaL_testudata(L, idx, SHAPE);
     if (sh) {
+        lc_shape moved = sh->s;
+        if (xf && lc_shape_transform(&sh->s, xf, &moved, &err))
+            lf_raise(L, arg, &err);
         lua_getiuservalue(L, idx, 1);
         int mat = material_index(L, u, 1, lua_gettop(L), arg);
         lua_pop(L, 1);
-        if (lc_scene_add_shape(u->s, &sh->s, mat, &err) < 0)
+        if (lc_scene_add_shape(u->s, &moved, mat, &err) < 0)
             lf_raise(L, arg, &err);
         return;
     }
@@ -200,20 +254,36 @@ static void add_one(lua_State *L, ud_scene *u, int idx, int arg, int depth)
         lua_getiuservalue(L, idx, 1);
         int mat = material_index(L, u, 1, lua_gettop(L), arg);
         lua_pop(L, 1);
-        if (lc_scene_add_mesh(u->s, me->m, mat, &err) < 0)
+        if ((xf ? lc_scene_add_mesh_moved(u->s, me->m, xf, mat, &err)
+                : lc_scene_add_mesh(u->s, me->m, mat, &err)) < 0)
             lf_raise(L, arg, &err);
+        lua_getiuservalue(L, 1, 1);             /* so scene:objects() can name it */
+        lua_rawgeti(L, -1, SC_MESHES);
+        lua_pushlightuserdata(L, me->m);
+        lua_pushvalue(L, idx);
+        lua_rawset(L, -3);
+        lua_pop(L, 2);
         return;
     }
     ud_light *li = luaL_testudata(L, idx, LIGHT);
     if (li) {
-        if (lc_scene_add_light(u->s, &li->l, &err) < 0)
+        lc_point_light l = li->l;
+        if (xf)
+            l.position = lc_transform_point(xf, l.position);
+        if (lc_scene_add_light(u->s, &l, &err) < 0)
             lf_raise(L, arg, &err);
         return;
+    }
+    lc_transform g;
+    if (luaL_testudata(L, idx, GROUP)) {
+        xf = group_xf(L, idx, xf, &g);
+        lua_getiuservalue(L, idx, 1);
+        idx = lua_gettop(L);
     }
     lua_Integer n = luaL_len(L, idx);
     for (lua_Integer i = 1; i <= n; i++) {
         lua_geti(L, idx, i);
-        add_one(L, u, -1, arg, depth + 1);
+        add_one(L, u, -1, arg, xf);
         lua_pop(L, 1);
     }
 }
@@ -223,11 +293,12 @@ static int w_scene_add(lua_State *L)
     ud_scene *u = check_scene(L, 1);
     int n = lua_gettop(L);
     if (n < 2)
-        return luaL_argerror(L, 2, "shape, mesh, light or array of them expected, got no value");
+        return luaL_argerror(L, 2, "shape, mesh, light, group or array of them expected, "
+                             "got no value");
     for (int i = 2; i <= n; i++)
-        check_addable(L, i, i, 0, 0);
+        check_addable(L, i, i, 0, 0, NULL);
     for (int i = 2; i <= n; i++)
-        add_one(L, u, i, i, 0);
+        add_one(L, u, i, i, NULL);
     lua_settop(L, 1);
     return 1;
 }
@@ -247,12 +318,14 @@ static int w_scene_transformed(lua_State *L)
     c->mark = clock_seconds();
     luaL_setmetatable(L, SCENE);
     int ci = lua_gettop(L);
-    lua_createtable(L, 3, 0);
+    lua_createtable(L, 4, 0);
     lua_getiuservalue(L, 1, 1);
     lua_rawgeti(L, -1, SC_MATERIALS);
     lua_rawseti(L, -3, SC_MATERIALS);
     lua_rawgeti(L, -1, SC_DEFAULT);
     lua_rawseti(L, -3, SC_DEFAULT);
+    lua_rawgeti(L, -1, SC_MESHES);         /* instances keep their meshes */
+    lua_rawseti(L, -3, SC_MESHES);
     lua_pop(L, 1);
     lua_setiuservalue(L, ci, 1);
     lc_error err;

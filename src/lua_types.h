@@ -15,6 +15,9 @@
 #define IMAGE    "lancer.Image"
 #define MESH     "lancer.Mesh"
 #define RAYTREE  "lancer.RayTree"
+#define TRANSFORM "lancer.Transform"
+#define GROUP    "lancer.Group"
+#define ENTRY    "lancer.SceneObject"
 
 typedef struct { lc_material m; } ud_material;
 typedef struct { lc_shape s; } ud_shape;          /* user value 1: its material */
@@ -27,6 +30,15 @@ typedef struct {
 } ud_scene;                                       /* user value 1: see lua_scene.c */
 typedef struct { lc_image *img; } ud_image;
 typedef struct { lc_mesh *m; } ud_mesh;           /* user value 1: its material */
+typedef struct { lc_transform t; } ud_transform;
+typedef struct { lc_transform t; } ud_group;      /* user value 1: its members, an array */
+
+/* A scene's user value is a table: [SC_CAMERA] its camera userdata,
+** [SC_MATERIALS] a table from material userdata to the index the core gave
+** it (so a material shared by a million spheres is stored once),
+** [SC_DEFAULT] the index of the default material, [SC_MESHES] a table from
+** each mesh's core pointer (light userdata) to its userdata, for listing. */
+enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4 };
 
 /* A metatable `name` with the metamethods `meta` and, when given, methods
 ** that its __index looks up under "methods". */
@@ -39,5 +51,14 @@ void objects_register(lua_State *L);   /* lua_objects.c: materials, shapes, ligh
 void mesh_register(lua_State *L);      /* lua_mesh.c */
 void scene_register(lua_State *L);     /* lua_scene.c, with ray trees */
 void image_register(lua_State *L);     /* lua_image.c */
+void motion_register(lua_State *L);    /* lua_motion.c: transforms and groups */
+void scene_objects_register(lua_State *L); /* lua_scene_objects.c: objects, remove */
+
+/* lua_motion.c: obj:moved(T) for shapes, lights, meshes and groups. */
+int motion_moved(lua_State *L);
+/* The shape and light pushed for core values, with material userdata (or nil)
+** at stack index mat for the shape (lua_objects.c). */
+void push_shape_value(lua_State *L, const lc_shape *s, int mat);
+void push_light_value(lua_State *L, const lc_point_light *l);
 
 #endif

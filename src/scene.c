@@ -38,8 +38,12 @@ void lc_scene_free(lc_scene *s)
     if (!s)
         return;
     compiled_free(&s->c);
-    for (size_t i = 0; i < s->nmeshes; i++)
+    instances_free(s);
+    for (size_t i = 0; i < s->nmeshes; i++) {
         lc_mesh_free(s->meshes[i].mesh);
+        free(s->meshes[i].xf);
+    }
+    free(s->light_ids);
     free(s->materials);
     free(s->spheres);
     free(s->quads);
@@ -146,6 +150,7 @@ int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *
         ok = s->nspheres < PRIM_MAX && GROW(s, spheres);
         if (ok) {
             sphere_prepare(sh, &s->spheres[s->nspheres].g);
+            s->spheres[s->nspheres].id = s->next_id;
             s->spheres[s->nspheres].material = material;
             id = PRIM_ID(PRIM_SPHERE, s->nspheres++);
         }
@@ -154,6 +159,7 @@ int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *
         ok = s->nquads < PRIM_MAX && GROW(s, quads);
         if (ok) {
             quad_prepare(sh, &s->quads[s->nquads].g);
+            s->quads[s->nquads].id = s->next_id;
             s->quads[s->nquads].material = material;
             id = PRIM_ID(PRIM_QUAD, s->nquads++);
         }
@@ -162,6 +168,7 @@ int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *
         ok = s->nboxes < PRIM_MAX && GROW(s, boxes);
         if (ok) {
             box_prepare(sh, &s->boxes[s->nboxes].g);
+            s->boxes[s->nboxes].id = s->next_id;
             s->boxes[s->nboxes].material = material;
             id = PRIM_ID(PRIM_BOX, s->nboxes++);
         }
@@ -170,6 +177,7 @@ int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *
         ok = s->nplanes < PRIM_MAX && GROW(s, planes);
         if (ok) {
             plane_prepare(sh, &s->planes[s->nplanes].g);
+            s->planes[s->nplanes].id = s->next_id;
             s->planes[s->nplanes].material = material;
             id = PRIM_ID(PRIM_PLANE, s->nplanes++);
         }
@@ -188,39 +196,84 @@ int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *
         make_emitter(sh, id, m, &s->emitters[s->nemitters++]);
     }
     s->c.valid = 0;
-    return (int)s->nshapes++;
+    s->nshapes++;
+    return s->next_id++;
 }
 
-int lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err)
+/* Adds m, moved by xf (taken over) or as it is when xf is NULL. */
+static int add_mesh(lc_scene *s, lc_mesh *m, instance_xf *xf, int material, lc_error *err)
 {
-    if (!check_material(s, material, err))
+    if (!check_material(s, material, err)) {
+        free(xf);
         return -1;
+    }
     if (m->nn != 0 && m->nn != m->nv) {
         lc_fail(err, LC_EARG, "normals", "mesh has %zu normals for %zu vertices", m->nn,
                 m->nv);
+        free(xf);
         return -1;
     }
     if (s->nmeshes >= PRIM_MAX || !GROW(s, meshes)) {
         lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
+        free(xf);
         return -1;
     }
-    s->meshes[s->nmeshes].mesh = mesh_retain(m);
-    s->meshes[s->nmeshes++].material = material;
+    mesh_prim *mp = &s->meshes[s->nmeshes++];
+    memset(mp, 0, sizeof *mp);
+    mp->mesh = mesh_retain(m);
+    mp->material = material;
+    mp->xf = xf;
+    mp->id = s->next_id;
     s->c.valid = 0;
-    return (int)s->nshapes++;
+    s->nshapes++;
+    return s->next_id++;
+}
+
+int lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err)
+{
+    return add_mesh(s, m, NULL, material, err);
+}
+
+int lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t, int material,
+                            lc_error *err)
+{
+    if (lc_transform_check(t, err))
+        return -1;
+    if (lc_transform_is_identity(t))
+        return add_mesh(s, m, NULL, material, err);
+    instance_xf *xf = malloc(sizeof *xf);
+    if (!xf) {
+        lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
+        return -1;
+    }
+    if (instance_xf_make(t, xf, err)) {
+        free(xf);
+        return -1;
+    }
+    return add_mesh(s, m, xf, material, err);
 }
 
 int lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err)
 {
     if (lc_point_light_check(l, err))
         return -1;
+    size_t cap = s->caplights;
     if (s->nlights >= PRIM_MAX || !GROW(s, lights)) {
         lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a light");
         return -1;
     }
-    s->lights[s->nlights] = *l;
+    if (s->caplights != cap || !s->light_ids) {     /* ids grow beside the lights */
+        int *ids = realloc(s->light_ids, s->caplights * sizeof *ids);
+        if (!ids) {
+            lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a light");
+            return -1;
+        }
+        s->light_ids = ids;
+    }
+    s->light_ids[s->nlights] = s->next_id;
+    s->lights[s->nlights++] = *l;
     s->c.valid = 0;
-    return (int)s->nlights++;
+    return s->next_id++;
 }
 
 size_t lc_scene_shape_count(const lc_scene *s) { return s->nshapes; }
@@ -283,6 +336,16 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
     }
     for (size_t i = 0; i < s->nmeshes; i++) {
         const lc_mesh *src = s->meshes[i].mesh;
+        if (s->meshes[i].xf) {     /* an instance stays one, of the same mesh */
+            lc_transform st = lc_transform_scale(v3(scale, scale, scale));
+            lc_transform mv = lc_transform_translate(t);
+            st = lc_transform_compose(&mv, &st);
+            st = lc_transform_compose(&st, &s->meshes[i].xf->xf);
+            if (lc_scene_add_mesh_moved(c, s->meshes[i].mesh, &st, s->meshes[i].material,
+                                        err) < 0)
+                goto fail;
+            continue;
+        }
         lc_mesh *m = lc_mesh_new(err);
         lc_status st = m ? LC_OK : LC_ENOMEM;
         for (size_t k = 0; st == LC_OK && k < src->nv; k++) {

@@ -8,20 +8,57 @@
 
 /* A primitive's id: its kind in the top 3 bits, its index in that kind's
 ** array below. Ids order ties between equally near hits. */
-enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE };
+enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
+       PRIM_INSTANCE };     /* a moved mesh: only in BVH refs, never in a hit */
 #define PRIM_ID(kind, index) (((uint32_t)(kind) << 29) | (uint32_t)(index))
 #define PRIM_KIND(id)        ((unsigned)((id) >> 29))
 #define PRIM_INDEX(id)       ((id) & 0x1fffffffu)
 #define PRIM_MAX             ((size_t)1 << 29)
 
-/* Shapes are prepared when added: the render reads them as they are. */
-typedef struct { sphere_geom g; int material; } sphere_prim;
-typedef struct { quad_geom g;   int material; } quad_prim;
-typedef struct { box_geom g;    int material; } box_prim;
-typedef struct { plane_geom g;  int material; } plane_prim;
-typedef struct { lc_mesh *mesh; int material; } mesh_prim;
+/* Shapes are prepared when added: the render reads them as they are. `id`
+** is what lc_scene_add_* returned (ids grow with each add, so every array
+** below is sorted by id); it fits in the structs' padding. */
+typedef struct { sphere_geom g; int material, id; } sphere_prim;
+typedef struct { quad_geom g;   int material, id; } quad_prim;
+typedef struct { box_geom g;    int material, id; } box_prim;
+typedef struct { plane_geom g;  int material, id; } plane_prim;
 
-/* One triangle of the compiled scene: which mesh, which face. */
+/* A mesh moved by a transform (instance.c): what a hit needs to go from
+** object space to the world and back, derived once when it is added. */
+typedef struct {
+    lc_transform xf;       /* object to world */
+    lc_transform inv;      /* world to object: rays go through this */
+    double  nrm[3][3];     /* normals: sign(det) cof(M), the inverse transpose */
+    double  slack[3][3];   /* world error of a point x from the round trip through */
+    lc_vec3 slack0;        /* xf and inv: slack |x| + slack0, per component */
+} instance_xf;
+
+/* xf == NULL: the mesh's triangles join the scene's own BVH as they are;
+** else it is an instance: its own BVH, shared by every instance of it. */
+typedef struct {
+    lc_mesh *mesh;
+    int material, id;
+    instance_xf *xf;
+    uint32_t blas;         /* compile: its entry in the scene's mesh BVH cache */
+} mesh_prim;
+
+/* A mesh's own BVH in object space, built once for every instance of it and
+** kept across compiles until the mesh grows (instance.c). */
+typedef struct {
+    lc_mesh *mesh;         /* retained while cached */
+    size_t   faces;        /* the mesh's face count when built */
+    bvh      bvh;          /* over the non-degenerate faces; refs index `face` */
+    uint32_t *face;        /* BVH ref k is face face[k] */
+    size_t   nface, degenerate;
+    float    lo[3], hi[3]; /* object-space bounds of the whole mesh */
+    size_t   tri_base;     /* compile: face[k] is compiled.tris[tri_base + k] */
+    int      used;         /* compile: some instance uses it */
+} mesh_bvh;
+
+/* One triangle of the compiled scene: which mesh, which face. The first
+** nflat are traced in the scene's BVH; the rest list each instanced mesh's
+** faces once, whatever its number of instances, so a hit on an instance
+** names a triangle like any other. */
 typedef struct { uint32_t mesh, face; } tri_ref;
 
 /* An emissive shape used as a light (the seed's model): it lights a point
@@ -41,6 +78,8 @@ typedef struct {
 typedef struct {
     tri_ref *tris;
     size_t   ntris, degenerate;
+    size_t   nflat;        /* tris[0, nflat) are in bvh; the rest are instances' */
+    size_t   ninstances;   /* moved meshes, as BVH primitives */
     bvh      bvh;          /* over spheres, quads, boxes and triangles */
     unsigned needs;        /* LC_NEED_* */
     int      depth;        /* the render's max_depth: its own or the scene's */
@@ -58,7 +97,10 @@ struct lc_scene {
     lc_settings settings;
     lc_camera   camera;
     int         has_camera;
-    size_t      nshapes;           /* shapes and meshes added, for ids */
+    size_t      nshapes;           /* shapes and meshes in the scene */
+    int         next_id;           /* every add takes the next id */
+    int        *light_ids;         /* lights[i] has id light_ids[i] */
+    SCENE_ARRAY(mesh_bvh, blas);   /* instanced meshes' BVHs, kept across compiles */
     SCENE_ARRAY(lc_material, materials);
     SCENE_ARRAY(sphere_prim, spheres);
     SCENE_ARRAY(quad_prim, quads);
@@ -88,8 +130,25 @@ void      compiled_free(compiled *c);
 int       render_depth(const lc_scene *s, const lc_render_options *o);
 lc_mesh  *mesh_retain(lc_mesh *m);
 
+/* instance.c: builds (or reuses) the BVH of every instanced mesh and lists
+** their faces after the flat triangles in c->tris (room for
+** instances_faces(s) more entries must be there). */
+size_t    instances_faces(const lc_scene *s);
+lc_status instances_compile(lc_scene *s, lc_error *err);
+void      instances_free(lc_scene *s);            /* the cache, at scene free */
+/* World bounds of mesh_prim i, an instance, rounded outward to float. */
+void      instance_bounds(const lc_scene *s, size_t i, float lo[3], float hi[3]);
+lc_status instance_xf_make(const lc_transform *t, instance_xf *x, lc_error *err);
+
 /* Intersection work, counted per thread: primitive and BVH node tests. */
 typedef struct { uint64_t prims, nodes; } lc_counts;
+
+/* instance.c: the nearest hit on the instance mesh_prim i in (0, tmax), in
+** world space (its distance, 0 for none); any hit. Both count their tests. */
+double instance_hit(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
+                    lc_hit *h, lc_counts *counts);
+int    instance_occluded(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
+                         lc_counts *counts);
 
 /* Nearest hit with 0 < t < tmax; 1 if any. counts may be NULL. */
 int scene_closest_n(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h,

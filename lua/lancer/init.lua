@@ -10,6 +10,13 @@ for k, v in pairs(core) do M[k] = v end
 -- which the core reads at render time.
 M.overrides = core.overrides
 
+-- Interpolation for animations (lua/lancer/motion.lua): lancer.lerp,
+-- lancer.smoothstep, lancer.ease.in_out_cubic, lancer.keyframes{...}, ...
+M.motion = require "lancer.motion"
+for _, k in ipairs{"lerp", "smoothstep", "ease", "keyframes", "lerp_angle"} do
+  M[k] = M.motion[k]
+end
+
 -- lancer.ledger(stats): the statistics of a render as a readable table.
 M.ledger = require("lancer.ledger").format
 

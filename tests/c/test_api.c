@@ -25,7 +25,7 @@ static void readme_example_renders(void **state)
     lc_shape ball = {LC_SPHERE, {0, 1, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 1};
     assert_int_equal(lc_scene_add_shape(s, &ball, mi, &err), 0);
     lc_point_light l = {{0, 1, -4}, {1, 1, 1}, 27, LC_FALLOFF_INVERSE_SQUARE};
-    assert_int_equal(lc_scene_add_light(s, &l, &err), 0);
+    assert_int_equal(lc_scene_add_light(s, &l, &err), 1);   /* ids: one per add */
     lc_render_options o = lc_render_options_default();
     o.width = 3;
     o.height = 3;

@@ -1,0 +1,465 @@
+/* instance.c: moved meshes: one BVH per mesh, rays taken into its own space. */
+#include <stdlib.h>
+#include <string.h>
+#include "error.h"
+#include "scene.h"
+
+#define STACK 128   /* as intersect.c: BVH depth is at most 64 plus leaf halvings */
+
+/* |a| |b| for 3x3 blocks of transforms. */
+static void abs_product(const lc_transform *a, const lc_transform *b, double out[3][3])
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            out[i][j] = fabs(a->m[i][0]) * fabs(b->m[0][j]) +
+                        fabs(a->m[i][1]) * fabs(b->m[1][j]) +
+                        fabs(a->m[i][2]) * fabs(b->m[2][j]);
+}
+
+/* A hit on an instance is found in object space, where later rays will meet
+** the mesh again after going through `inv`, and reported in the world,
+** where they start. Three roundings separate the two, each bounded here
+** relative to |x| so the bound holds at any scale and offset:
+** - the world vertices M v + t and the ray origins inv x + t' are rounded
+**   (gamma(4) of the products' magnitudes, mapped through |M|);
+** - inv is not exactly M's inverse: M inv - I and M t' + t, computed with
+**   their own rounding, say by how much a point moves on the round trip.
+** Twice each, for the vertices and for the spawned origin. */
+lc_status instance_xf_make(const lc_transform *t, instance_xf *x, lc_error *err)
+{
+    if (lc_transform_inverse(t, &x->inv, err))
+        return LC_EARG;
+    x->xf = *t;
+    for (int i = 0; i < 3; i++)               /* M^-T: outward stays outward */
+        for (int j = 0; j < 3; j++)
+            x->nrm[i][j] = x->inv.m[j][i];
+    double mi[3][3], res[3][3];
+    abs_product(t, &x->inv, mi);
+    lc_transform p = lc_transform_compose(t, &x->inv);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            res[i][j] = fabs(p.m[i][j] - (i == j)) + lc_gamma(3) * mi[i][j];
+    double g = lc_gamma(4);
+    double s0[3];
+    for (int i = 0; i < 3; i++) {
+        double mt = fabs(t->m[i][0]) * fabs(x->inv.m[0][3]) +
+                    fabs(t->m[i][1]) * fabs(x->inv.m[1][3]) +
+                    fabs(t->m[i][2]) * fabs(x->inv.m[2][3]);
+        double rt = fabs(p.m[i][3]) + lc_gamma(3) * (mt + fabs(t->m[i][3]));
+        s0[i] = 2 * (g * (mt + fabs(t->m[i][3])) + rt);
+        for (int j = 0; j < 3; j++)
+            x->slack[i][j] = 2 * (g * mi[i][j] + res[i][j]);
+    }
+    x->slack0 = v3(s0[0], s0[1], s0[2]);
+    return LC_OK;
+}
+
+static lc_vec3 slack_at(const instance_xf *x, lc_vec3 a)   /* a: componentwise |x| */
+{
+    return v3(x->slack[0][0] * a.x + x->slack[0][1] * a.y + x->slack[0][2] * a.z +
+                  x->slack0.x,
+              x->slack[1][0] * a.x + x->slack[1][1] * a.y + x->slack[1][2] * a.z +
+                  x->slack0.y,
+              x->slack[2][0] * a.x + x->slack[2][1] * a.y + x->slack[2][2] * a.z +
+                  x->slack0.z);
+}
+
+static lc_vec3 mat3_apply(const double m[3][3], lc_vec3 v)
+{
+    return v3(m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
+              m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+              m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z);
+}
+
+static lc_vec3 vmax(lc_vec3 a, lc_vec3 b)
+{
+    return v3(max2(a.x, b.x), max2(a.y, b.y), max2(a.z, b.z));
+}
+
+/* ---- the per-mesh BVH cache -------------------------------------------------- */
+
+static int face_degenerate(const lc_mesh *m, size_t f)
+{
+    const uint32_t *ix = m->f + 3 * f;
+    const double *a = m->v + 3 * (size_t)ix[0], *b = m->v + 3 * (size_t)ix[1];
+    const double *c = m->v + 3 * (size_t)ix[2];
+    lc_vec3 p = v3(a[0], a[1], a[2]);
+    lc_vec3 n = v3_cross(v3_sub(v3(b[0], b[1], b[2]), p), v3_sub(v3(c[0], c[1], c[2]), p));
+    double l = v3_dot(n, n);
+    return !(l > 0 && isfinite(l));
+}
+
+static void blas_clear(mesh_bvh *mb)
+{
+    bvh_free(&mb->bvh);
+    free(mb->face);
+    mb->face = NULL;
+    mb->nface = mb->degenerate = 0;
+}
+
+/* Builds mb's BVH over the mesh's faces as they are now. */
+static lc_status blas_build(mesh_bvh *mb, lc_error *err)
+{
+    const lc_mesh *m = mb->mesh;
+    blas_clear(mb);
+    mb->faces = m->nf;
+    for (int k = 0; k < 3; k++) {
+        mb->lo[k] = HUGE_VALF;
+        mb->hi[k] = -HUGE_VALF;
+    }
+    mb->face = malloc((m->nf + 1) * sizeof *mb->face);
+    bvh_item *items = malloc((m->nf + 1) * sizeof *items);
+    if (!mb->face || !items) {
+        free(items);
+        blas_clear(mb);
+        return lc_fail(err, LC_ENOMEM, NULL, "out of memory bounding a mesh of %zu faces",
+                       m->nf);
+    }
+    size_t n = 0;
+    for (size_t f = 0; f < m->nf; f++) {
+        if (face_degenerate(m, f)) {
+            mb->degenerate++;
+            continue;
+        }
+        bvh_item *it = &items[n];
+        it->id = (uint32_t)n;
+        for (int k = 0; k < 3; k++) {
+            it->lo[k] = HUGE_VALF;
+            it->hi[k] = -HUGE_VALF;
+        }
+        const uint32_t *ix = m->f + 3 * f;
+        for (int j = 0; j < 3; j++) {   /* vertices are exact doubles: no ulp needed */
+            const double *v = m->v + 3 * (size_t)ix[j];
+            for (int a = 0; a < 3; a++) {
+                float fl = bvh_down(v[a]), fh = bvh_up(v[a]);
+                if (fl < it->lo[a]) it->lo[a] = fl;
+                if (fh > it->hi[a]) it->hi[a] = fh;
+            }
+        }
+        for (int a = 0; a < 3; a++) {
+            if (it->lo[a] < mb->lo[a]) mb->lo[a] = it->lo[a];
+            if (it->hi[a] > mb->hi[a]) mb->hi[a] = it->hi[a];
+        }
+        mb->face[n++] = (uint32_t)f;
+    }
+    mb->nface = n;
+    lc_status st = bvh_build(&mb->bvh, items, n, err);
+    if (st)
+        blas_clear(mb);
+    return st;
+}
+
+static mesh_bvh *blas_find(lc_scene *s, const lc_mesh *m)
+{
+    for (size_t i = 0; i < s->nblas; i++)
+        if (s->blas[i].mesh == m)
+            return &s->blas[i];
+    return NULL;
+}
+
+void instances_free(lc_scene *s)
+{
+    for (size_t i = 0; i < s->nblas; i++) {
+        blas_clear(&s->blas[i]);
+        lc_mesh_free(s->blas[i].mesh);
+    }
+    free(s->blas);
+    s->blas = NULL;
+    s->nblas = s->capblas = 0;
+}
+
+size_t instances_faces(const lc_scene *s)
+{
+    size_t total = 0;
+    for (size_t i = 0; i < s->nmeshes; i++) {
+        const mesh_prim *mp = &s->meshes[i];
+        if (!mp->xf)
+            continue;
+        size_t j = 0;                       /* each mesh once */
+        while (j < i && !(s->meshes[j].xf && s->meshes[j].mesh == mp->mesh))
+            j++;
+        if (j == i)
+            total += mp->mesh->nf;
+    }
+    return total;
+}
+
+lc_status instances_compile(lc_scene *s, lc_error *err)
+{
+    compiled *c = &s->c;
+    for (size_t i = 0; i < s->nblas; i++)
+        s->blas[i].used = 0;
+    /* Find or build each instanced mesh's BVH, in the order first used. */
+    for (size_t i = 0; i < s->nmeshes; i++) {
+        mesh_prim *mp = &s->meshes[i];
+        if (!mp->xf)
+            continue;
+        mesh_bvh *mb = blas_find(s, mp->mesh);
+        if (!mb) {
+            if (s->nblas == s->capblas) {
+                size_t nc = s->capblas ? 2 * s->capblas : 8;
+                mesh_bvh *p = realloc(s->blas, nc * sizeof *p);
+                if (!p)
+                    return lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh BVH");
+                s->blas = p;
+                s->capblas = nc;
+            }
+            mb = &s->blas[s->nblas++];
+            memset(mb, 0, sizeof *mb);
+            mb->mesh = mesh_retain(mp->mesh);
+            mb->faces = (size_t)-1;
+        }
+        if (mb->faces != mp->mesh->nf) {   /* new, or the mesh grew: rebuild */
+            lc_status st = blas_build(mb, err);
+            if (st)
+                return st;
+        }
+        mb->used = 1;
+    }
+    /* Drop what no instance uses any more (removed), keeping the order. */
+    size_t k = 0;
+    for (size_t i = 0; i < s->nblas; i++) {
+        if (s->blas[i].used) {
+            s->blas[k++] = s->blas[i];
+        } else {
+            blas_clear(&s->blas[i]);
+            lc_mesh_free(s->blas[i].mesh);
+        }
+    }
+    s->nblas = k;
+    /* List each mesh's faces once after the flat triangles. */
+    for (size_t i = 0; i < s->nblas; i++) {
+        mesh_bvh *mb = &s->blas[i];
+        uint32_t owner = 0;
+        while (s->meshes[owner].mesh != mb->mesh || !s->meshes[owner].xf)
+            owner++;
+        mb->tri_base = c->ntris;
+        for (size_t f = 0; f < mb->nface; f++) {
+            c->tris[c->ntris].mesh = owner;
+            c->tris[c->ntris++].face = mb->face[f];
+        }
+        c->degenerate += mb->degenerate;
+    }
+    c->ninstances = 0;
+    for (size_t i = 0; i < s->nmeshes; i++) {
+        mesh_prim *mp = &s->meshes[i];
+        if (mp->xf) {
+            mp->blas = (uint32_t)(blas_find(s, mp->mesh) - s->blas);
+            c->ninstances++;
+        }
+    }
+    return LC_OK;
+}
+
+void instance_bounds(const lc_scene *s, size_t i, float lo[3], float hi[3])
+{
+    const mesh_prim *mp = &s->meshes[i];
+    const mesh_bvh *mb = &s->blas[mp->blas];
+    lc_vec3 a = v3(HUGE_VAL, HUGE_VAL, HUGE_VAL), b = v3_neg(a), big = v3(0, 0, 0);
+    for (int corner = 0; corner < 8; corner++) {
+        lc_vec3 p = v3(corner & 1 ? mb->hi[0] : mb->lo[0], corner & 2 ? mb->hi[1] : mb->lo[1],
+                       corner & 4 ? mb->hi[2] : mb->lo[2]);
+        lc_vec3 w = lc_transform_point(&mp->xf->xf, p);
+        a = v3(fmin(a.x, w.x), fmin(a.y, w.y), fmin(a.z, w.z));
+        b = v3(fmax(b.x, w.x), fmax(b.y, w.y), fmax(b.z, w.z));
+        big = vmax(big, v3_abs(w));
+    }
+    /* Wide enough for the surface as rays see it through inv. */
+    lc_vec3 e = slack_at(mp->xf, big);
+    a = v3_sub(a, e);
+    b = v3_add(b, e);
+    double lo3[3] = {a.x, a.y, a.z}, hi3[3] = {b.x, b.y, b.z};
+    for (int k = 0; k < 3; k++) {
+        lo[k] = mb->nface ? bvh_down(nextafter(lo3[k], -HUGE_VAL)) : HUGE_VALF;
+        hi[k] = mb->nface ? bvh_up(nextafter(hi3[k], HUGE_VAL)) : -HUGE_VALF;
+    }
+}
+
+/* ---- tracing ----------------------------------------------------------------- */
+
+typedef struct {
+    lc_ray  r;             /* in object space: d is not unit, so t is the world's */
+    double  o[3], inv[3];
+    int     neg[3];
+    tri_shear sh;
+} object_ray;
+
+static void object_ray_init(object_ray *q, const instance_xf *x, const lc_ray *r)
+{
+    q->r.o = lc_transform_point(&x->inv, r->o);
+    q->r.d = lc_transform_vector(&x->inv, r->d);
+    double d[3] = {q->r.d.x, q->r.d.y, q->r.d.z};
+    q->o[0] = q->r.o.x;
+    q->o[1] = q->r.o.y;
+    q->o[2] = q->r.o.z;
+    for (int k = 0; k < 3; k++) {
+        q->inv[k] = 1.0 / d[k];
+        q->neg[k] = q->inv[k] < 0;
+    }
+    tri_shear_init(q->r.d, &q->sh);
+}
+
+static inline int face_hit(const lc_mesh *m, uint32_t f, const object_ray *q, double tmax,
+                           lc_hit *h)
+{
+    const uint32_t *ix = m->f + 3 * (size_t)f;
+    const double *v = m->v;
+    return tri_hit(v + 3 * (size_t)ix[0], v + 3 * (size_t)ix[1], v + 3 * (size_t)ix[2],
+                   &q->r, &q->sh, 0, tmax, h, h->bary);
+}
+
+/* The object-space hit on face f, in the world: the point from the moved
+** vertices, its error bound with the transforms' slack, normals by the
+** inverse transpose. */
+static void to_world(const mesh_prim *mp, const mesh_bvh *mb,
+                     uint32_t k, lc_hit *h)
+{
+    const instance_xf *x = mp->xf;
+    const lc_mesh *m = mp->mesh;
+    const uint32_t *ix = m->f + 3 * (size_t)mb->face[k];
+    lc_vec3 p = v3(0, 0, 0), sum = v3(0, 0, 0), big = v3(0, 0, 0);
+    for (int j = 0; j < 3; j++) {
+        const double *v = m->v + 3 * (size_t)ix[j];
+        lc_vec3 w = lc_transform_point(&x->xf, v3(v[0], v[1], v[2]));
+        lc_vec3 a = v3_mul(w, h->bary[j]);
+        p = v3_add(p, a);
+        sum = v3_add(sum, v3_abs(a));
+        big = vmax(big, v3_abs(w));
+    }
+    h->p = p;
+    h->perr = v3_add(v3_mul(sum, lc_gamma(7)), slack_at(x, vmax(big, v3_abs(p))));
+    h->n = v3_norm(mat3_apply(x->nrm, h->n));
+    h->ns = h->n;
+    if (m->n) {
+        lc_vec3 n = v3(0, 0, 0);
+        for (int j = 0; j < 3; j++) {
+            const double *nk = m->n + 3 * (size_t)ix[j];
+            n = v3_madd(n, v3(nk[0], nk[1], nk[2]), h->bary[j]);
+        }
+        n = mat3_apply(x->nrm, n);
+        double l = v3_len(n);
+        if (l > 0 && isfinite(l)) {
+            h->ns = v3_mul(n, 1.0 / l);
+            if (v3_dot(h->ns, h->n) < 0)     /* as intersect.c: normals say which side */
+                h->n = v3_neg(h->n);
+        }
+    }
+    h->material = mp->material;
+    h->shape = PRIM_ID(PRIM_TRIANGLE, mb->tri_base + k);
+}
+
+double instance_hit(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
+                    lc_hit *h, lc_counts *counts)
+{
+    const mesh_prim *mp = &s->meshes[i];
+    const mesh_bvh *mb = &s->blas[mp->blas];
+    const bvh *b = &mb->bvh;
+    if (!b->nnodes)
+        return 0;
+    object_ray q;
+    object_ray_init(&q, mp->xf, r);
+    uint64_t np = 0, nn = 1;
+    double best = 0;
+    uint32_t best_k = 0;
+    lc_hit tmp;
+    if (bvh_enter(&b->nodes[0], q.o, q.inv, q.neg, tmax) < HUGE_VAL) {
+        uint32_t stack[STACK];
+        double enter[STACK];
+        int sp = 0;
+        uint32_t ni = 0;
+        for (;;) {
+            const bvh_node *nd = &b->nodes[ni];
+            if (nd->count) {
+                for (uint32_t j = 0; j < nd->count; j++) {
+                    uint32_t k = b->refs[nd->start + j];
+                    np++;
+                    if (face_hit(mp->mesh, mb->face[k], &q, tmax, &tmp) &&
+                        (best == 0 || tmp.t < best || (tmp.t == best && k < best_k))) {
+                        best = tmp.t;
+                        best_k = k;
+                        *h = tmp;
+                        tmax = next_up(best);
+                    }
+                }
+            } else {
+                uint32_t c0 = ni + 1, c1 = nd->start;
+                double t0 = bvh_enter(&b->nodes[c0], q.o, q.inv, q.neg, tmax);
+                double t1 = bvh_enter(&b->nodes[c1], q.o, q.inv, q.neg, tmax);
+                nn += 2;
+                if (t1 < t0) {
+                    uint32_t c = c0; c0 = c1; c1 = c;
+                    double t = t0; t0 = t1; t1 = t;
+                }
+                if (t0 < HUGE_VAL) {
+                    if (t1 < HUGE_VAL) {
+                        stack[sp] = c1;
+                        enter[sp++] = t1;
+                    }
+                    ni = c0;
+                    continue;
+                }
+            }
+            do {
+                if (sp == 0)
+                    goto done;
+                --sp;
+            } while (enter[sp] > tmax);
+            ni = stack[sp];
+        }
+    }
+done:
+    counts->prims += np;
+    counts->nodes += nn;
+    if (best == 0)
+        return 0;
+    to_world(mp, mb, best_k, h);
+    return best;
+}
+
+int instance_occluded(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
+                      lc_counts *counts)
+{
+    const mesh_prim *mp = &s->meshes[i];
+    const mesh_bvh *mb = &s->blas[mp->blas];
+    const bvh *b = &mb->bvh;
+    if (!b->nnodes)
+        return 0;
+    object_ray q;
+    object_ray_init(&q, mp->xf, r);
+    lc_hit tmp;
+    int hit = 0;
+    counts->nodes++;
+    if (bvh_enter(&b->nodes[0], q.o, q.inv, q.neg, tmax) == HUGE_VAL)
+        return 0;
+    uint32_t stack[STACK];
+    int sp = 0;
+    uint32_t ni = 0;
+    for (;;) {
+        const bvh_node *nd = &b->nodes[ni];
+        if (nd->count) {
+            for (uint32_t j = 0; j < nd->count; j++) {
+                counts->prims++;
+                if (face_hit(mp->mesh, mb->face[b->refs[nd->start + j]], &q, tmax, &tmp)) {
+                    hit = 1;
+                    goto done;
+                }
+            }
+        } else {
+            uint32_t c0 = ni + 1, c1 = nd->start;
+            int h0 = bvh_enter(&b->nodes[c0], q.o, q.inv, q.neg, tmax) < HUGE_VAL;
+            int h1 = bvh_enter(&b->nodes[c1], q.o, q.inv, q.neg, tmax) < HUGE_VAL;
+            counts->nodes += 2;
+            if (h0 || h1) {
+                if (h0 && h1)
+                    stack[sp++] = c1;
+                ni = h0 ? c0 : c1;
+                continue;
+            }
+        }
+        if (sp == 0)
+            break;
+        ni = stack[--sp];
+    }
+done:
+    return hit;
+}

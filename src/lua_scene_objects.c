@@ -1,0 +1,232 @@
+/* lua_scene_objects.c: scene:objects() lists what was added, scene:remove() takes it out. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <lauxlib.h>
+#include <lua.h>
+#include "lancer.h"
+#include "lua_fields.h"
+#include "lua_types.h"
+
+static const char *const shape_kinds[LC_SHAPE_KINDS] = {"sphere", "quad", "box", "plane"};
+
+static lc_scene *check_scene(lua_State *L, int idx)
+{
+    ud_scene *u = luaL_checkudata(L, idx, SCENE);
+    if (!u->s)
+        luaL_argerror(L, idx, "lancer.Scene already freed");
+    return u->s;
+}
+
+/* Pushes a table from the core's material index to its material userdata
+** (the inverse of the scene's SC_MATERIALS; the default material is absent). */
+static void push_materials(lua_State *L, int sidx)
+{
+    lua_newtable(L);
+    lua_getiuservalue(L, sidx, 1);
+    lua_rawgeti(L, -1, SC_MATERIALS);
+    lua_pushnil(L);
+    while (lua_next(L, -2)) {                 /* material -> index */
+        lua_pushvalue(L, -2);
+        lua_rawseti(L, -6, lua_tointeger(L, -2));
+        lua_pop(L, 1);
+    }
+    lua_pop(L, 2);
+}
+
+/* Pushes the entry for o: {id, kind, object, material, transform}. */
+static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
+{
+    lua_createtable(L, 0, 5);
+    int e = lua_gettop(L);
+    luaL_setmetatable(L, ENTRY);
+    lua_pushinteger(L, (lua_Integer)o->id + 1);    /* Lua counts from 1 */
+    lua_setfield(L, e, "id");
+    if (o->material >= 0)
+        lua_rawgeti(L, mats, o->material);   /* nil for the default material */
+    else
+        lua_pushnil(L);
+    int mat = lua_gettop(L);
+    switch (o->kind) {
+    case LC_OBJECT_SHAPE:
+        lua_pushstring(L, shape_kinds[o->shape.kind]);
+        lua_setfield(L, e, "kind");
+        push_shape_value(L, &o->shape, mat);
+        break;
+    case LC_OBJECT_MESH:
+        lua_pushliteral(L, "mesh");
+        lua_setfield(L, e, "kind");
+        if (o->moved) {
+            ud_transform *t = lua_newuserdatauv(L, sizeof *t, 0);
+            t->t = o->transform;
+            luaL_setmetatable(L, TRANSFORM);
+            lua_setfield(L, e, "transform");
+        }
+        lua_rawgeti(L, uv, SC_MESHES);
+        lua_pushlightuserdata(L, o->mesh);
+        lua_rawget(L, -2);
+        lua_remove(L, -2);
+        break;
+    default:
+        lua_pushliteral(L, "point_light");
+        lua_setfield(L, e, "kind");
+        push_light_value(L, &o->light);
+        break;
+    }
+    lua_setfield(L, e, "object");
+    lua_setfield(L, e, "material");
+}
+
+/* scene:objects(): every object in the order added, each a table
+** {id =, kind =, object =, material =, transform =} that prints on one line.
+** Ids count from 1 (the core's from 0), and stay with their object. */
+static int w_scene_objects(lua_State *L)
+{
+    lc_scene *s = check_scene(L, 1);
+    size_t n = lc_scene_object_count(s);
+    lc_object *objs = lua_newuserdatauv(L, (n + 1) * sizeof *objs, 0);  /* Lua frees it */
+    lc_scene_objects(s, objs, n);
+    push_materials(L, 1);
+    int mats = lua_gettop(L);
+    lua_getiuservalue(L, 1, 1);
+    int uv = lua_gettop(L);
+    lua_createtable(L, (int)n, 0);
+    for (size_t i = 0; i < n; i++) {
+        push_entry(L, &objs[i], mats, uv);
+        lua_rawseti(L, -2, (lua_Integer)i + 1);
+    }
+    return 1;
+}
+
+static int same_vec(lc_vec3 a, lc_vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+/* What the scene stores for a plane's normal: unit, as plane.c makes it. */
+static lc_vec3 plane_unit(lc_vec3 n)
+{
+    if (n.y == 0 && n.z == 0) return (lc_vec3){copysign(1, n.x), 0, 0};
+    if (n.x == 0 && n.z == 0) return (lc_vec3){0, copysign(1, n.y), 0};
+    if (n.x == 0 && n.y == 0) return (lc_vec3){0, 0, copysign(1, n.z)};
+    double r = 1.0 / sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+    return (lc_vec3){n.x * r, n.y * r, n.z * r};
+}
+
+/* Whether the scene's object o is the value at idx (a shape, light or mesh). */
+static int matches(lua_State *L, int idx, const lc_object *o)
+{
+    ud_shape *sh = luaL_testudata(L, idx, SHAPE);
+    if (sh) {
+        const lc_shape *a = &sh->s, *b = &o->shape;
+        if (o->kind != LC_OBJECT_SHAPE || a->kind != b->kind || !same_vec(a->p, b->p))
+            return 0;
+        switch (a->kind) {
+        case LC_SPHERE: return a->radius == b->radius;
+        case LC_PLANE: return same_vec(plane_unit(a->u), b->u);
+        case LC_BOX: return same_vec(a->u, b->u) && same_vec(a->v, b->v) &&
+                            same_vec(a->w, b->w);
+        default: return same_vec(a->u, b->u) && same_vec(a->v, b->v);
+        }
+    }
+    ud_light *li = luaL_testudata(L, idx, LIGHT);
+    if (li)
+        return o->kind == LC_OBJECT_LIGHT && same_vec(li->l.position, o->light.position) &&
+               li->l.intensity == o->light.intensity;
+    ud_mesh *me = luaL_testudata(L, idx, MESH);
+    return me && o->kind == LC_OBJECT_MESH && me->m == o->mesh;
+}
+
+/* scene:remove(x): x is an id, an entry of scene:objects(), or the shape,
+** light or mesh that was added, when it was added once. */
+static int w_scene_remove(lua_State *L)
+{
+    lc_scene *s = check_scene(L, 1);
+    lc_error err;
+    int id = -1;
+    if (lua_type(L, 2) == LUA_TTABLE) {
+        lua_getfield(L, 2, "id");
+        if (!lua_isinteger(L, -1))
+            return luaL_argerror(L, 2, "an entry of scene:objects() (with an integer id) "
+                                 "expected");
+        lua_replace(L, 2);
+    }
+    if (lua_type(L, 2) == LUA_TNUMBER) {
+        if (!lua_isinteger(L, 2))
+            return luaL_argerror(L, 2, lua_pushfstring(L, "integer id expected, got %s",
+                                                       luaL_tolstring(L, 2, NULL)));
+        lua_Integer i = lua_tointeger(L, 2);
+        id = i < 1 || i > 0x7fffffff ? -1 : (int)(i - 1);
+        if (id < 0)
+            return luaL_argerror(L, 2, lua_pushfstring(L, "no object %I in this scene", i));
+    } else if (luaL_testudata(L, 2, SHAPE) || luaL_testudata(L, 2, LIGHT) ||
+               luaL_testudata(L, 2, MESH)) {
+        size_t n = lc_scene_object_count(s);
+        lc_object *objs = lua_newuserdatauv(L, (n + 1) * sizeof *objs, 0);
+        lc_scene_objects(s, objs, n);
+        int found = 0, other = -1;
+        for (size_t i = 0; i < n; i++)
+            if (matches(L, 2, &objs[i])) {
+                if (found == 0)
+                    id = objs[i].id;
+                else if (found == 1)
+                    other = objs[i].id;
+                found++;
+            }
+        const char *what = luaL_tolstring(L, 2, NULL);
+        if (found == 0)
+            return luaL_argerror(L, 2, lua_pushfstring(L, "%s is not in this scene", what));
+        if (found > 1)
+            return luaL_argerror(L, 2, lua_pushfstring(L, "%s was added %d times (ids %d, "
+                                                       "%d%s): remove one by id", what,
+                                                       found, id + 1, other + 1,
+                                                       found > 2 ? ", ..." : ""));
+    } else {
+        return luaL_argerror(L, 2, lua_pushfstring(L, "id, entry of scene:objects(), shape, "
+                                                   "light or mesh expected, got %s",
+                                                   luaL_typename(L, 2)));
+    }
+    if (lc_scene_remove(s, id, &err))
+        return luaL_argerror(L, 2, lua_pushfstring(L, "no object %d in this scene (%s)",
+                                                   id + 1, strstr(err.msg, "removed") ?
+                                                   "it was removed" : "never added"));
+    lua_settop(L, 1);
+    return 1;
+}
+
+static int w_entry_tostring(lua_State *L)
+{
+    luaL_checktype(L, 1, LUA_TTABLE);
+    lua_settop(L, 1);
+    lua_getfield(L, 1, "id");                 /* 2 */
+    lua_getfield(L, 1, "object");             /* 3 */
+    lua_getfield(L, 1, "transform");          /* 4 */
+    lua_getfield(L, 1, "material");           /* 5 */
+    luaL_Buffer b;
+    luaL_buffinit(L, &b);                     /* may push: absolute indices below */
+    lua_pushfstring(L, "#%I ", lua_tointeger(L, 2));
+    luaL_addvalue(&b);
+    luaL_tolstring(L, 3, NULL);
+    luaL_addvalue(&b);
+    if (!lua_isnil(L, 4)) {
+        luaL_addstring(&b, " moved by ");
+        luaL_tolstring(L, 4, NULL);
+        luaL_addvalue(&b);
+    }
+    if (!lua_isnil(L, 5)) {
+        luaL_addstring(&b, ", material ");
+        luaL_tolstring(L, 5, NULL);
+        luaL_addvalue(&b);
+    }
+    luaL_pushresult(&b);
+    return 1;
+}
+
+void scene_objects_register(lua_State *L)
+{
+    static const luaL_Reg methods[] = {
+        {"objects", w_scene_objects}, {"remove", w_scene_remove}, {NULL, NULL}};
+    static const luaL_Reg entry_meta[] = {{"__tostring", w_entry_tostring}, {NULL, NULL}};
+    luaL_getmetatable(L, SCENE);
+    lua_getfield(L, -1, "methods");
+    luaL_setfuncs(L, methods, 0);
+    lua_pop(L, 2);
+    binding_class(L, ENTRY, entry_meta, NULL);
+}
