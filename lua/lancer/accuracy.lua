@@ -195,7 +195,8 @@ local function sweep(scene, base, knob, seeds)
     L.mean_rays = mean(L.rays)
     L.mean_rmse, L.mean_mse, L.mean_relmse = mean(L.rmse), mean(L.mse), mean(L.relmse)
     L.mean_mae, L.mean_bias = mean(L.mae), mean(L.bias)
-    L.min_rmse, L.max_rmse = math.min(table.unpack(L.rmse)), math.max(table.unpack(L.rmse))
+    L.min_rmse = math.min(table.unpack(L.rmse))
+    L.max_rmse = math.max(table.unpack(L.rmse))
     L.efficiency = 1 / (L.mean_relmse * L.median_seconds)
     r.levels[#r.levels + 1] = L
     say("%s=%d: %d seeds, RMSE %.4g, %.3f s each", name, level, seeds, L.mean_rmse,
@@ -219,9 +220,10 @@ local function table_text(r, label)
   local function add(fmt, ...) out[#out + 1] = fmt:format(...) end
   add("%s at %dx%d, knob %s, %d seeds per level", label, r.width, r.height, r.knob,
       r.seeds)
-  local ratio = r.smallest_mse > 0 and r.ref_var / r.smallest_mse or math.huge
+  local ratio = r.ref_var == 0 and 0 or r.ref_var / r.smallest_mse   -- inf: 0 MSE
   add("reference: %s; its variance %.3g is %s of the smallest MSE", r.ref_note, r.ref_var,
-      ratio > 0 and ("1/%.0f"):format(1 / ratio) or "0")
+      ratio == 0 and "0" or ratio < 1 and ("1/%.0f"):format(1 / ratio)
+      or ("%.3gx"):format(ratio))
   if ratio > 1 / REF_FACTOR then
     -- The measured MSE is the level's own plus the reference's variance.
     add("warning: the reference is noisier than NUMERICS.md 3.1 allows (1/16): the " ..
@@ -235,9 +237,10 @@ local function table_text(r, label)
         L.median_seconds, L.mean_rays, L.mean_rmse, L.min_rmse, L.max_rmse,
         L.mean_relmse, L.efficiency)
   end
-  add("best value: %s=%d (efficiency %.4g per second, %.2fx %s=%d's)", r.knob,
-      r.best.level, r.best.efficiency, r.best.efficiency / r.levels[1].efficiency,
-      r.knob, r.levels[1].level)
+  local gain = r.best.efficiency / r.levels[1].efficiency
+  add("best value: %s=%d (efficiency %.4g per second%s)", r.knob, r.best.level,
+      r.best.efficiency, gain < math.huge and r.best ~= r.levels[1] and
+      (", %.2fx %s=%d's"):format(gain, r.knob, r.levels[1].level) or "")
   return table.concat(out, "\n") .. "\n"
 end
 
@@ -279,11 +282,13 @@ end
 local function plot(r, path, title)
   local points = {}
   for _, L in ipairs(r.levels) do
-    points[#points + 1] = {x = L.median_seconds, y = L.mean_rmse, label = tostring(L.level)}
+    points[#points + 1] = {x = L.median_seconds, y = L.mean_rmse,
+                           label = tostring(L.level)}
   end
   return require("lancer.plot").loglog{
     path = path, title = title, xlabel = "trace seconds (median of seeds)",
-    ylabel = "RMSE (mean of seeds)", points = points, series = "RMSE (labels: " .. r.knob .. ")",
+    ylabel = "RMSE (mean of seeds)", points = points,
+    series = "RMSE (labels: " .. r.knob .. ")",
     -- RMSE against time: -1/2 is plain Monte Carlo (independent samples, cost
     -- linear in the knob); -1 what stratification reaches on smooth integrands.
     slopes = {{-0.5, "slope -1/2 (independent samples)"},

@@ -246,7 +246,9 @@ function M.draw(spec)
   end
 
   -- Titles and the legend (top right, inside the frame).
-  if spec.title then cv:text((cv.w - M.text_width(spec.title)) / 2, 12, spec.title, BLACK) end
+  if spec.title then
+    cv:text((cv.w - M.text_width(spec.title)) / 2, 12, spec.title, BLACK)
+  end
   if spec.xlabel then
     cv:text((px0 + px1 - M.text_width(spec.xlabel)) / 2, py1 + 34, spec.xlabel, BLACK)
   end

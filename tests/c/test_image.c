@@ -550,7 +550,8 @@ static void image_error_exact(void **state)
 {
     (void)state;
     lc_image *img = image_2x1((lc_color){0.5f, 0.25f, 0}, (lc_color){1, 0, 0.125f});
-    lc_image *ref = image_2x1((lc_color){0.25f, 0.25f, 0.25f}, (lc_color){0.75f, 0.5f, 0});
+    lc_image *ref = image_2x1((lc_color){0.25f, 0.25f, 0.25f},
+                              (lc_color){0.75f, 0.5f, 0});
     lc_image_error_stats e;
     lc_error err;
     assert_int_equal(lc_image_error(img, ref, &e, &err), LC_OK);
