@@ -6,6 +6,9 @@
 #include "error.h"
 #include "scene.h"
 #include "clock.h"
+#include "camera.h"
+
+#define PI 3.14159265358979323846
 
 void compiled_free(compiled *c)
 {
@@ -129,6 +132,19 @@ static lc_status build_bvh(lc_scene *s, lc_error *err)
     return bvh_build(&c->bvh, items, n, err);
 }
 
+/* A material reflects through a cone when it has one wider than an ulp of a
+** unit vector (narrower ones trace exactly the mirror ray: a mirror is
+** cheaper and bit-identical) and the render has not switched cones off. */
+static int material_cone(const lc_material *m, const lc_render_options *o)
+{
+    return o->glossy && sin(m->glossiness * (PI / 180)) > DBL_EPSILON;
+}
+
+int render_depth(const lc_scene *s, const lc_render_options *o)
+{
+    return o && o->max_depth >= 0 ? o->max_depth : s->settings.max_depth;
+}
+
 /* First material in use (1-based, in the order the scene met them) with
 ** the property, and how many have it. */
 typedef struct { size_t count, first; } census;
@@ -161,7 +177,8 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     MARK(s->planes, s->nplanes)
     MARK(s->meshes, s->nmeshes)
 #undef MARK
-    census lit = {0, 0}, spec = {0, 0}, refl = {0, 0}, amb = {0, 0}, inuse = {0, 0};
+    census lit = {0, 0}, spec = {0, 0}, refl = {0, 0}, gloss = {0, 0}, amb = {0, 0},
+           inuse = {0, 0};
     for (size_t i = 0; i < s->nmaterials; i++) {
         const lc_material *m = &s->materials[i];
         if (!used[i])
@@ -169,25 +186,32 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
         count(&inuse, i);
         if (m->kd > 0 || m->ks > 0) count(&lit, i);
         if (m->ks > 0) count(&spec, i);
-        if (m->kr > 0) count(&refl, i);
+        if (m->kr > 0 && !material_cone(m, o)) count(&refl, i);
+        if (m->kr > 0 && material_cone(m, o)) count(&gloss, i);
         if (m->ka > 0) count(&amb, i);
     }
+    int depth = render_depth(s, o);
     int lights = s->nlights > 0 || s->nemitters > 0;
     int ambient = !c_is_black(s->settings.ambient);
+    int area = o->light_samples > 0;
     unsigned needs = 0;
     if (lit.count && s->nlights > 0) needs |= LC_NEED_SHADOW;
-    if (lit.count && s->nemitters > 0) needs |= LC_NEED_EMITTER;
+    if (lit.count && s->nemitters > 0) needs |= area ? LC_NEED_AREA : LC_NEED_EMITTER;
     if (spec.count && lights && o->specular) needs |= LC_NEED_SPECULAR;
-    if (refl.count && s->settings.max_depth > 0 && o->reflections) needs |= LC_NEED_REFLECT;
+    if (refl.count && depth > 0 && o->reflections) needs |= LC_NEED_REFLECT;
+    if (gloss.count && depth > 0 && o->reflections) needs |= LC_NEED_GLOSSY;
     if (amb.count && ambient) needs |= LC_NEED_AMBIENT;
+    if (s->camera.aperture > 0) needs |= LC_NEED_LENS;
     if (o->generic) {        /* everything that can run, runs */
         if (s->nlights) needs |= LC_NEED_SHADOW;
-        if (s->nemitters) needs |= LC_NEED_EMITTER;
+        if (s->nemitters) needs |= area ? LC_NEED_AREA : LC_NEED_EMITTER;
         if (o->specular) needs |= LC_NEED_SPECULAR;
-        if (o->reflections && s->settings.max_depth > 0) needs |= LC_NEED_REFLECT;
+        if (o->reflections && depth > 0) needs |= LC_NEED_REFLECT;
+        if (o->reflections && depth > 0 && gloss.count) needs |= LC_NEED_GLOSSY;
         needs |= LC_NEED_AMBIENT;
     }
     c->needs = needs;
+    c->depth = depth;
 
 #define WHY(k, ...) snprintf(c->why[k], sizeof c->why[k], __VA_ARGS__)
     if (needs & LC_NEED_SHADOW)
@@ -197,10 +221,12 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     else
         WHY(0, s->nlights ? "no material in use has kd or ks > 0" : "no point light");
     if (needs & LC_NEED_EMITTER)
-        WHY(1, "%zu emissive shape%s light %zu material%s with kd or ks > 0",
+        WHY(1, "%zu emissive shape%s light %zu material%s with kd or ks > 0, "
+            "toward their centres (light_samples = 0)",
             s->nemitters, s->nemitters == 1 ? "" : "s", lit.count, lit.count == 1 ? "" : "s");
     else
-        WHY(1, s->nemitters ? "no material in use has kd or ks > 0" : "no emissive shape");
+        WHY(1, !s->nemitters ? "no emissive shape" : !lit.count ?
+            "no material in use has kd or ks > 0" : "emitters are sampled as area lights");
     if (needs & LC_NEED_SPECULAR)
         WHY(2, "%zu material%s in use with ks > 0 (first: #%zu)", spec.count,
             spec.count == 1 ? "" : "s", spec.first);
@@ -209,29 +235,54 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
             "no material in use has ks > 0" : "no light");
     if (needs & LC_NEED_REFLECT)
         WHY(3, "%zu material%s in use with kr > 0 (first: #%zu), max_depth %d",
-            refl.count, refl.count == 1 ? "" : "s", refl.first, s->settings.max_depth);
+            refl.count, refl.count == 1 ? "" : "s", refl.first, depth);
     else
-        WHY(3, !o->reflections ? "switched off (reflections = false)" : !refl.count ?
-            "no material in use has kr > 0" : "max_depth is 0");
+        WHY(3, !o->reflections ? "switched off (reflections = false)" :
+            !refl.count && !gloss.count ? "no material in use has kr > 0" :
+            !refl.count ? "every material in use with kr > 0 has a cone" : "max_depth is 0");
     if (needs & LC_NEED_AMBIENT)
         WHY(4, "ambient light and %zu material%s in use with ka > 0", amb.count,
             amb.count == 1 ? "" : "s");
     else
         WHY(4, !ambient ? "no ambient light" : "no material in use has ka > 0");
+    if (needs & LC_NEED_GLOSSY)
+        WHY(5, "%zu material%s in use with kr > 0 and a cone (first: #%zu), %s",
+            gloss.count, gloss.count == 1 ? "" : "s", gloss.first,
+            o->cone_samples ? "cone_samples set by the render" : "each its cone_samples");
+    else
+        WHY(5, !o->glossy ? "switched off (glossy = false): cones are mirrors" :
+            !o->reflections ? "switched off (reflections = false)" : !gloss.count ?
+            "no material in use has kr > 0 and glossiness > 0" : "max_depth is 0");
+    if (needs & LC_NEED_AREA)
+        WHY(6, "%zu emissive shape%s light %zu material%s with kd or ks > 0; "
+            "%d light samples each per hit", s->nemitters, s->nemitters == 1 ? "" : "s",
+            lit.count, lit.count == 1 ? "" : "s", o->light_samples);
+    else
+        WHY(6, !s->nemitters ? "no emissive shape" : !lit.count ?
+            "no material in use has kd or ks > 0" :
+            "light_samples = 0: one ray to each emitter's centre");
+    if (needs & LC_NEED_LENS)
+        WHY(7, "camera aperture %g, focus %g", s->camera.aperture,
+            camera_focus(&s->camera));
+    else
+        WHY(7, "camera aperture 0: a pinhole");
 #undef WHY
 
     for (size_t i = 0; i < s->nmaterials; i++) {
         const lc_material *m = &s->materials[i];
+        int cone = material_cone(m, o);
         unsigned char p = 0;
         if (m->kd > 0 || m->ks > 0) p |= PLAN_LIGHTS;
         if (m->ks > 0 && (needs & LC_NEED_SPECULAR)) p |= PLAN_SPECULAR;
-        if (m->kr > 0 && (needs & LC_NEED_REFLECT)) p |= PLAN_REFLECT;
+        if (m->kr > 0 && !cone && (needs & LC_NEED_REFLECT)) p |= PLAN_REFLECT;
+        if (m->kr > 0 && cone && (needs & LC_NEED_GLOSSY)) p |= PLAN_GLOSSY;
         if (m->ka > 0 && (needs & LC_NEED_AMBIENT)) p |= PLAN_AMBIENT;
         if (!c_is_black(m->emission)) p |= PLAN_EMITS;
         if (o->generic)
             p = PLAN_LIGHTS | PLAN_EMITS | PLAN_AMBIENT |
                 (needs & LC_NEED_SPECULAR ? PLAN_SPECULAR : 0) |
-                (needs & LC_NEED_REFLECT ? PLAN_REFLECT : 0);
+                (cone ? (needs & LC_NEED_GLOSSY ? PLAN_GLOSSY : 0)
+                      : (needs & LC_NEED_REFLECT ? PLAN_REFLECT : 0));
         c->plan[i] = p;
     }
     return LC_OK;

@@ -220,6 +220,8 @@ typedef struct {
     double   trace_seconds;
     uint64_t rays[LC_RAY_KINDS];
     uint64_t samples;            /* camera samples over all pixels */
+    uint64_t converged;          /* adaptive: pixels whose estimated error fell
+                                 ** under `noise` before `samples` */
     unsigned needs;              /* LC_NEED_* bits */
     int      threads;
     size_t   bvh_nodes;          /* nodes of the hierarchy over bounded shapes */

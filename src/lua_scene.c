@@ -338,6 +338,8 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
     lua_setfield(L, -2, "self_hits");
     lua_pushinteger(L, (lua_Integer)st->samples);
     lua_setfield(L, -2, "samples");
+    lua_pushinteger(L, (lua_Integer)st->converged);
+    lua_setfield(L, -2, "converged");
     lua_createtable(L, 0, LC_RAY_KINDS);
     for (int k = 0; k < LC_RAY_KINDS; k++) {
         lua_pushinteger(L, (lua_Integer)st->rays[k]);
@@ -512,7 +514,7 @@ static void push_record(lua_State *L, const lc_ray_record *recs, size_t n, size_
     lua_setfield(L, -2, "distance");
     lf_push_color(L, x->contribution);
     lua_setfield(L, -2, "contribution");
-    if (x->kind == LC_RAY_SHADOW) {
+    if (x->kind == LC_RAY_SHADOW || x->kind == LC_RAY_LIGHT) {
         lua_pushboolean(L, x->hit);
         lua_setfield(L, -2, "visible");
         if (x->light >= 0)

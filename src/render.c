@@ -74,10 +74,95 @@ typedef struct {
     pthread_t thread;
 } worker;
 
-/* Sample s of n inside a pixel: the centre for one sample; a jittered
-** k x k grid when n is a square; otherwise independent positions. */
-static void sample_offset(const job *j, uint64_t pixel, int s, int n, double *dx,
-                          double *dy);
+/* A tracer for this render: the switches and counts the compile decided. */
+static void tracer_init(tracer *t, lc_scene *s, const lc_render_options *o)
+{
+    memset(t, 0, sizeof *t);
+    t->scene = s;
+    t->needs = s->c.needs;
+    t->plan = s->c.plan;
+    t->shadows = o->shadows;
+    t->max_depth = s->c.depth;
+    t->cosine = o->cosine;
+    t->cutoff = o->cutoff;
+    t->light_samples = o->light_samples;
+    t->cone_samples = o->cone_samples;
+}
+
+/* Camera sample s of n of pixel (x, y): the pixel centre when the pixel
+** takes one sample, else a point of the pixel's set; through the lens when
+** the camera has one. */
+static radiance camera_sample(const job *j, tracer *t, int x, int y, uint32_t s,
+                              uint32_t n)
+{
+    double u[2] = {0.5, 0.5};
+    if (n > 1)
+        sample_2d(&t->ps, sample_dim(DIM_PIXEL, 0, 0), s, n, u);
+    lc_ray ray = camera_ray(&j->cam, x + u[0], y + u[1]);
+    if (t->needs & LC_NEED_LENS) {
+        sample_2d(&t->ps, sample_dim(DIM_LENS, 0, 0), s, n, u);
+        camera_lens(&j->cam, &ray, u);
+    }
+    t->rays[LC_RAY_CAMERA]++;
+    return trace_ray(t, &ray, s, n);
+}
+
+/* Adaptive sampling's error estimate (Dammertz et al. 2010, as in Cycles):
+** the mean of all n samples against the mean of the odd-numbered half,
+** relative to the square root of the brightness (what the eye sees of
+** noise), with 0.01 so black pixels converge. Valid with the progressive
+** Sobol' points, where the sample variance would be pessimistic. */
+static double pixel_error(const double all[3], const double odd[3], uint32_t n)
+{
+    double e = 0, lum = 0;
+    for (int c = 0; c < 3; c++) {
+        double mean = all[c] / n, half = odd[c] / (n / 2);
+        e += fabs(mean - half);
+        lum += mean;
+    }
+    return (e / 3) / (sqrt(fmax(lum / 3, 0)) + 0.01);
+}
+
+static void render_tile(job *j, tracer *t, int tile)
+{
+    const lc_render_options *o = j->o;
+    int x0 = (tile % j->tiles_x) * TILE, y0 = (tile / j->tiles_x) * TILE;
+    int x1 = x0 + TILE < j->img->width ? x0 + TILE : j->img->width;
+    int y1 = y0 + TILE < j->img->height ? y0 + TILE : j->img->height;
+    uint32_t n = (uint32_t)o->samples;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            uint64_t pixel = (uint64_t)y * j->img->width + x;
+            t->ps = pixel_sampler_init(o->sampler, o->seed, o->frame, pixel);
+            double sum[3] = {0, 0, 0}, odd[3] = {0, 0, 0};
+            uint32_t done = 0, check = n;
+            if (o->noise > 0) {     /* checks at min_samples, then each doubling */
+                check = (uint32_t)o->min_samples + (o->min_samples & 1);
+                if (check > n)
+                    check = n;
+            }
+            for (;;) {
+                for (; done < check; done++) {
+                    radiance c = camera_sample(j, t, x, y, done, n);
+                    sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
+                    if (done & 1)
+                        odd[0] += c.r, odd[1] += c.g, odd[2] += c.b;
+                }
+                if (done >= n)
+                    break;
+                if (pixel_error(sum, odd, done) < o->noise) {
+                    t->converged++;
+                    break;
+                }
+                check = 2 * done < n ? 2 * done : n;
+            }
+            t->samples += done;
+            /* Under RADIANCE_CAP, so the float is finite (FLT_MAX at most). */
+            lc_image_set(j->img, x, y, rgb((float)fmin(sum[0] / done, FLT_MAX),
+                                           (float)fmin(sum[1] / done, FLT_MAX),
+                                           (float)fmin(sum[2] / done, FLT_MAX)));
+        }
+}
 
 lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y,
                            int sample, lc_ray_record **records, size_t *n, lc_error *err)
@@ -103,19 +188,10 @@ lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y
     camera_frame_init(&s->camera, o->width, o->height, &j.cam);
     ray_log log = {NULL, NULL, 0, 0, 0};
     tracer t;
-    memset(&t, 0, sizeof t);
-    t.scene = s;
+    tracer_init(&t, s, o);
     t.log = &log;
-    t.needs = s->c.needs;
-    t.plan = s->c.plan;
-    t.shadows = o->shadows;
-    t.max_depth = s->settings.max_depth;
-    t.cosine = o->cosine;
-    t.cutoff = o->cutoff;
-    double dx, dy;
-    sample_offset(&j, (uint64_t)y * o->width + x, sample, o->samples, &dx, &dy);
-    lc_ray ray = camera_ray(&j.cam, x + dx, y + dy);
-    trace_ray(&t, &ray, 0);
+    t.ps = pixel_sampler_init(o->sampler, o->seed, o->frame, (uint64_t)y * o->width + x);
+    camera_sample(&j, &t, x, y, (uint32_t)sample, (uint32_t)o->samples);
     free(log.before);
     if (log.failed) {
         free(log.r);
@@ -125,51 +201,6 @@ lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y
     *n = log.n;
     lc_ok(err);
     return LC_OK;
-}
-
-static void sample_offset(const job *j, uint64_t pixel, int s, int n, double *dx, double *dy)
-{
-    if (n == 1) {
-        *dx = *dy = 0.5;
-        return;
-    }
-    double u1 = rng_u01(j->o->seed, pixel, (uint32_t)s, 0);
-    double u2 = rng_u01(j->o->seed, pixel, (uint32_t)s, 1);
-    int k = (int)sqrt((double)n);
-    if (k * k == n) {
-        *dx = (s % k + u1) / k;
-        *dy = (s / k + u2) / k;
-    } else {
-        *dx = u1;
-        *dy = u2;
-    }
-}
-
-static void render_tile(job *j, tracer *t, int tile)
-{
-    int x0 = (tile % j->tiles_x) * TILE, y0 = (tile / j->tiles_x) * TILE;
-    int x1 = x0 + TILE < j->img->width ? x0 + TILE : j->img->width;
-    int y1 = y0 + TILE < j->img->height ? y0 + TILE : j->img->height;
-    int n = j->o->samples;
-    for (int y = y0; y < y1; y++)
-        for (int x = x0; x < x1; x++) {
-            uint64_t pixel = (uint64_t)y * j->img->width + x;
-            double r = 0, g = 0, b = 0;
-            for (int s = 0; s < n; s++) {
-                double dx, dy;
-                sample_offset(j, pixel, s, n, &dx, &dy);
-                lc_ray ray = camera_ray(&j->cam, x + dx, y + dy);
-                t->rays[LC_RAY_CAMERA]++;
-                radiance c = trace_ray(t, &ray, 0);
-                r += c.r;
-                g += c.g;
-                b += c.b;
-            }
-            /* Under RADIANCE_CAP, so the float is finite (FLT_MAX at most). */
-            lc_image_set(j->img, x, y, rgb((float)fmin(r / n, FLT_MAX),
-                                           (float)fmin(g / n, FLT_MAX),
-                                           (float)fmin(b / n, FLT_MAX)));
-        }
 }
 
 static void *work(void *arg)
@@ -222,6 +253,9 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
                        LC_MAX_DEPTH, o->max_depth);
     if (!(o->noise >= 0 && o->noise <= HUGE_VAL) || isinf(o->noise))
         return lc_fail(err, LC_EARG, "noise", "must be finite and >= 0, got %g", o->noise);
+    if (o->noise > 0 && o->sampler == LC_SAMPLER_JITTER)
+        return lc_fail(err, LC_EARG, "sampler", "adaptive sampling (noise > 0) stops after "
+                       "any number of samples: it needs 'sobol' or 'random', not 'jitter'");
     if (o->min_samples < 1 || o->min_samples > MAX_SAMPLES)
         return lc_fail(err, LC_EARG, "min_samples", "must be in [1, %d], got %d",
                        MAX_SAMPLES, o->min_samples);
@@ -276,13 +310,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     int started = 0;
     for (int i = 0; i < nt; i++) {
         ws[i].j = &j;
-        ws[i].t.scene = s;
-        ws[i].t.needs = s->c.needs;
-        ws[i].t.shadows = o->shadows;
-        ws[i].t.plan = s->c.plan;
-        ws[i].t.max_depth = s->settings.max_depth;
-        ws[i].t.cosine = o->cosine;
-        ws[i].t.cutoff = o->cutoff;
+        tracer_init(&ws[i].t, s, o);
         pthread_mutex_lock(&j.lock);
         j.running++;
         pthread_mutex_unlock(&j.lock);
@@ -330,6 +358,8 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         for (int k = 0; k < LC_RAY_KINDS; k++)
             sum.rays[k] += ws[i].t.rays[k];
         sum.self_hits += ws[i].t.self_hits;
+        sum.samples += ws[i].t.samples;
+        sum.converged += ws[i].t.converged;
         sum.prim_tests += ws[i].t.counts.prims;
         sum.node_tests += ws[i].t.counts.nodes;
     }

@@ -118,7 +118,13 @@ static void make_emitter(const lc_shape *sh, uint32_t id, const lc_material *m, 
     if (sh->kind == LC_SPHERE) {
         e->target = sh->p;
         e->radius = sh->radius;
-    } else if (sh->kind == LC_QUAD) {
+        return;
+    }
+    e->corner = sh->p;
+    e->edge[0] = sh->u;
+    e->edge[1] = sh->v;
+    e->edge[2] = sh->w;
+    if (sh->kind == LC_QUAD) {
         e->target = v3_add(sh->p, v3_mul(v3_add(sh->u, sh->v), 0.5));
         e->area[0] = v3_cross(sh->u, sh->v);
     } else {

@@ -31,6 +31,8 @@ typedef struct {
     lc_shape_kind kind;
     lc_vec3  target;     /* sphere centre, quad or box centre */
     double   radius;     /* sphere */
+    lc_vec3  corner;     /* quad and box: as given */
+    lc_vec3  edge[3];    /* quad: u, v; box: u, v, w */
     lc_vec3  area[3];    /* quad: u x v; box: v x w, w x u, u x v (projected area) */
     lc_color emission;
 } emitter;
@@ -41,6 +43,7 @@ typedef struct {
     size_t   ntris, degenerate;
     bvh      bvh;          /* over spheres, quads, boxes and triangles */
     unsigned needs;        /* LC_NEED_* */
+    int      depth;        /* the render's max_depth: its own or the scene's */
     unsigned char *plan;   /* per material, PLAN_* below: decided once per render */
     char     why[LC_NEEDS][160];
     double   seconds;
@@ -75,12 +78,14 @@ enum {
     PLAN_SPECULAR = 1 << 1,   /* ks > 0 and specular on */
     PLAN_REFLECT  = 1 << 2,   /* kr > 0 and reflections on */
     PLAN_AMBIENT  = 1 << 3,   /* ka > 0 and an ambient light */
-    PLAN_EMITS    = 1 << 4    /* emission > 0 */
+    PLAN_EMITS    = 1 << 4,   /* emission > 0 */
+    PLAN_GLOSSY   = 1 << 5    /* kr > 0 through a diffusion cone, and cones on */
 };
 
 /* o: the render's switches, or NULL for the defaults. */
 lc_status scene_compile(lc_scene *s, const lc_render_options *o, lc_error *err);
 void      compiled_free(compiled *c);
+int       render_depth(const lc_scene *s, const lc_render_options *o);
 lc_mesh  *mesh_retain(lc_mesh *m);
 
 /* Intersection work, counted per thread: primitive and BVH node tests. */

@@ -200,6 +200,181 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, unsigned 
     }
 }
 
+/* Where a path stands in the pixel's sample set: camera sample `index` of
+** `count`, or a cone ray's place among all the pixel's cone rays. */
+typedef struct {
+    uint32_t index, count;
+    int      depth;
+    uint32_t from;         /* the primitive the first ray left ... */
+    int      watch;        /* ... which it cannot meet again */
+} path;
+
+/* An orthonormal frame around unit a, without a singular direction (Duff et
+** al., Building an Orthonormal Basis, Revisited, JCGT 2017). */
+static void frame_around(lc_vec3 a, lc_vec3 *b1, lc_vec3 *b2)
+{
+    double sg = copysign(1.0, a.z), k = -1 / (sg + a.z), b = a.x * a.y * k;
+    *b1 = v3(1 + sg * a.x * a.x * k, sg * b, -sg * a.x);
+    *b2 = v3(b, sg + a.y * a.y * k, -a.y);
+}
+
+/* A direction uniform in solid angle inside the cone of unit axis a whose
+** half-angle has 1 - cos = omc (passed as such: no cancellation for tiny
+** cones; NUMERICS.md 1.11). */
+static lc_vec3 cone_direction(lc_vec3 a, double omc, const double u[2])
+{
+    double one_minus = u[0] * omc, c = 1 - one_minus;
+    double sn = sqrt(fmax(0, one_minus * (2 - one_minus)));
+    double phi = 2 * PI * u[1];
+    lc_vec3 b1, b2;
+    frame_around(a, &b1, &b2);
+    return v3_norm(v3_madd(v3_madd(v3_mul(a, c), b1, sn * cos(phi)), b2, sn * sin(phi)));
+}
+
+/* Traces the shadow ray of an area-light sample toward emitter e along l for
+** at most tmax; 1 if the light is seen. Logs it while explaining. */
+static int light_visible(tracer *t, const lc_hit *h, const emitter *e, int which,
+                         lc_vec3 l, double tmax, int *rec)
+{
+    *rec = -1;
+    if (!t->shadows)
+        return 1;
+    lc_ray sr = {spawn_origin(h, l), l};
+    t->rays[LC_RAY_LIGHT]++;
+    if (t->log) {
+        *rec = log_ray(t, t->parent, LC_RAY_LIGHT, &sr);
+        if (*rec >= 0) {
+            t->log->r[*rec].light = -1 - which;
+            t->log->r[*rec].distance = tmax;
+        }
+    }
+    lc_hit blk;
+    /* The emitter itself may be met first (a grazing ray's sphere root is
+    ** only good to sqrt(ulp)): only another shape casts a shadow. */
+    if (scene_closest_n(t->scene, &sr, tmax, &blk, &t->counts) && blk.shape != e->shape)
+        return 0;
+    if (*rec >= 0)
+        t->log->r[*rec].hit = 1;
+    return 1;
+}
+
+/* A point of a box's faces that face p, uniform over their total area:
+** u[0] picks the face (and is stretched back to [0, 1) inside it). Returns
+** the total area seen, 0 when p is inside. */
+static double box_point(const emitter *e, lc_vec3 p, const double u[2], lc_vec3 *q,
+                        lc_vec3 *normal)
+{
+    lc_vec3 c = e->target, faces[3][4];      /* corner, edge, edge, outward normal */
+    double area[3], total = 0;
+    int nf = 0;
+    for (int a = 0; a < 3; a++) {
+        lc_vec3 ea = e->edge[a], e1 = e->edge[(a + 1) % 3], e2 = e->edge[(a + 2) % 3];
+        lc_vec3 nrm = e->area[a];                       /* e1 x e2 */
+        if (v3_dot(nrm, ea) < 0)
+            nrm = v3_neg(nrm);
+        double side = v3_dot(v3_sub(p, c), nrm), half = 0.5 * v3_dot(ea, nrm);
+        if (side > half) {                              /* beyond the + face */
+            faces[nf][0] = v3_madd(e->corner, ea, 1);
+        } else if (side < -half) {
+            faces[nf][0] = e->corner;
+            nrm = v3_neg(nrm);
+        } else {
+            continue;
+        }
+        faces[nf][1] = e1;
+        faces[nf][2] = e2;
+        faces[nf][3] = nrm;
+        area[nf] = v3_len(nrm);
+        total += area[nf++];
+    }
+    if (nf == 0)
+        return 0;
+    double pick = u[0] * total;
+    int f = 0;
+    while (f < nf - 1 && pick >= area[f])
+        pick -= area[f++];
+    double s = fmin(pick / area[f], BELOW_ONE);
+    *q = v3_madd(v3_madd(faces[f][0], faces[f][1], s), faces[f][2], u[1]);
+    *normal = faces[f][3];
+    return total;
+}
+
+/* Emissive shapes as area lights (light_samples > 0): each hit takes S
+** points per emitter, stratified over all the pixel's samples; spheres by
+** solid angle (the cone they subtend), quads and boxes by area. Each sample
+** adds L * cos / (pi pdf S), so that the sum is E / pi, the same convention
+** as the centre-ray model (exact for an unshadowed sphere). */
+static void area_lights(tracer *t, const lc_hit *h, const lc_material *m, unsigned plan,
+                        lc_vec3 n, lc_vec3 v, const path *pa, light_sum *sum)
+{
+    const lc_scene *s = t->scene;
+    uint32_t S = (uint32_t)t->light_samples, count = nested_count(pa->count, S);
+    for (size_t i = 0; i < s->nemitters; i++) {
+        const emitter *e = &s->emitters[i];
+        if (e->shape == h->shape)
+            continue;
+        double omc = 0, solid = 0, dc = 0;
+        lc_vec3 axis = {0, 0, 0};
+        if (e->kind == LC_SPHERE) {
+            lc_vec3 tc = v3_sub(e->target, h->p);
+            double d2 = v3_dot(tc, tc), r2 = e->radius * e->radius;
+            if (!(d2 > r2))                 /* on or inside the light */
+                continue;
+            dc = sqrt(d2);
+            axis = v3_mul(tc, 1 / dc);
+            double sin2 = r2 / d2, cosmax = sqrt(1 - sin2);
+            if (v3_dot(n, axis) <= -sqrt(sin2))     /* wholly below the horizon */
+                continue;
+            omc = sin2 / (1 + cosmax);
+            solid = 2 * PI * omc;
+        } else if (e->kind == LC_QUAD) {
+            lc_vec3 to = v3_sub(h->p, e->corner);
+            if (v3_dot(to, e->area[0]) == 0)        /* in the light's plane */
+                continue;
+        }
+        for (uint32_t j = 0; j < S; j++) {
+            double u[2], k, dist;
+            lc_vec3 l;
+            uint32_t idx = (uint32_t)(((uint64_t)pa->index * S + j) % count);
+            sample_2d(&t->ps, sample_dim(DIM_LIGHT, (unsigned)pa->depth, (unsigned)i), idx,
+                      count, u);
+            if (e->kind == LC_SPHERE) {
+                l = cone_direction(axis, omc, u);
+                k = solid / (PI * S);
+                dist = dc;                  /* past the near side, short of the far */
+            } else {
+                lc_vec3 q, nl;
+                double area;
+                if (e->kind == LC_QUAD) {
+                    q = v3_madd(v3_madd(e->corner, e->edge[0], u[0]), e->edge[1], u[1]);
+                    nl = e->area[0];
+                    area = v3_len(nl);
+                } else {
+                    area = box_point(e, h->p, u, &q, &nl);
+                    if (area == 0)
+                        break;              /* inside the box: it lights nothing */
+                }
+                lc_vec3 tq = v3_sub(q, h->p);
+                double d2 = v3_dot(tq, tq);
+                dist = sqrt(d2);
+                if (!(dist > 0))
+                    continue;
+                l = v3_mul(tq, 1 / dist);
+                /* |n_l . l| A / d^2: the solid angle per unit of area. */
+                k = area * fabs(v3_dot(nl, l)) / v3_len(nl) / (PI * d2 * S);
+                dist *= 1 - SHADOW_SHORTEN;
+            }
+            double cosl = v3_dot(n, l);
+            if (!(cosl > 0) || !(k > 0))
+                continue;
+            int rec;
+            if (!light_visible(t, h, e, (int)i, l, dist, &rec))
+                continue;
+            add_light(t, m, plan, n, v, l, cosl, r_scale(rad(e->emission), cap(k)), sum, rec);
+        }
+    }
+}
+
 /* The mirror chain is a loop, not a recursion: each bounce adds its own
 ** light times the product of the reflection weights before it, so any
 ** max_depth costs no stack. For absorb = 'all' (the seed) the weight
@@ -214,13 +389,86 @@ static int cannot_return(const lc_hit *h, lc_vec3 w)
     return k == PRIM_QUAD || k == PRIM_PLANE || k == PRIM_TRIANGLE || v3_dot(w, h->n) > 0;
 }
 
-radiance trace_ray(tracer *t, const lc_ray *r0, int depth)
+/* The number of rays a glossy hit splits into. */
+static uint32_t cone_count(const tracer *t, const lc_material *m)
+{
+    return (uint32_t)(t->cone_samples > 0 ? t->cone_samples : m->cone_samples);
+}
+
+/* Cone direction `index` of `count` around unit axis a, folded above the
+** surface: a sample under the tangent plane is mirrored about it (so none
+** is traced into the surface and the lobe keeps its energy: H21(d), H24).
+** Returns its cosine with n (0: exactly in the plane, not traced). */
+static double cone_sample(tracer *t, const lc_material *m, lc_vec3 a, lc_vec3 n,
+                          int depth, uint32_t index, uint32_t count, lc_vec3 *d)
+{
+    double u[2], half = m->glossiness * (PI / 360);    /* half the half-angle */
+    double omc = 2 * sin(half) * sin(half);            /* 1 - cos, no cancellation */
+    sample_2d(&t->ps, sample_dim(DIM_CONE, (unsigned)depth, 0), index, count, u);
+    lc_vec3 w = cone_direction(a, omc, u);
+    double c = v3_dot(w, n);
+    if (c < 0) {
+        w = v3_madd(w, n, -2 * c);
+        c = -c;
+    }
+    *d = w;
+    return c;
+}
+
+static radiance trace_path(tracer *t, const lc_ray *r0, path pa, int split, radiance w0,
+                           int rec);
+
+/* The seed's diffusion cone, done right: M rays over the cone, stratified
+** over all the pixel's cone rays, each weighted by its cosine with the
+** normal, weights normalised to sum to 1 (as in the seed). Returns what the
+** M sub-paths bring back, weighted by w. */
+static radiance glossy_split(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n,
+                             lc_vec3 axis, const path *pa, radiance w, int rec)
+{
+    uint32_t M = cone_count(t, m), count = nested_count(pa->count, M);
+    radiance acc = {0, 0, 0};
+    double total = 0;
+    lc_vec3 d;
+    for (uint32_t j = 0; j < M; j++)         /* first the sum of the weights */
+        total += cone_sample(t, m, axis, n, pa->depth, (uint32_t)(((uint64_t)pa->index * M + j)
+                             % count), count, &d);
+    if (!(total > 0))
+        return acc;
+    for (uint32_t j = 0; j < M; j++) {
+        uint32_t idx = (uint32_t)(((uint64_t)pa->index * M + j) % count);
+        double c = cone_sample(t, m, axis, n, pa->depth, idx, count, &d);
+        if (!(c > 0))
+            continue;
+        lc_ray r = {spawn_origin(h, d), d};
+        t->rays[LC_RAY_GLOSSY]++;
+        int sub = rec >= 0 ? log_ray(t, rec, LC_RAY_GLOSSY, &r) : -1;
+        path next = {idx, count, pa->depth + 1, h->shape, cannot_return(h, d)};
+        acc = r_add(acc, trace_path(t, &r, next, 1, r_scale(w, c / total), sub));
+    }
+    return acc;
+}
+
+radiance trace_ray(tracer *t, const lc_ray *r0, uint32_t index, uint32_t count)
+{
+    path pa = {index, count, 0, 0, 0};
+    radiance one = {1, 1, 1};
+    int rec = t->log ? log_ray(t, -1, LC_RAY_CAMERA, r0) : -1;
+    return trace_path(t, r0, pa, 0, one, rec);
+}
+
+/* One path: a loop over mirror bounces (and single cone rays once the path
+** has split), so any max_depth costs no stack; the first glossy hit splits
+** into M sub-paths, each a call of this (which never splits again: cost is
+** linear in M, not M^depth). w0: the path's weight in the pixel; rec: its
+** first ray's explain record. */
+static radiance trace_path(tracer *t, const lc_ray *r0, path pa, int split, radiance w,
+                           int rec)
 {
     lc_ray r = *r0;
-    radiance acc = {0, 0, 0}, w = {1, 1, 1};
-    uint32_t from = 0;
-    int watch = 0;             /* the last spawn cannot return to `from` */
-    int rec = t->log ? log_ray(t, -1, LC_RAY_CAMERA, &r) : -1;
+    radiance acc = {0, 0, 0};
+    uint32_t from = pa.from;
+    int watch = pa.watch;      /* the last spawn cannot return to `from` */
+    int first = rec;
     for (;;) {
         lc_hit h;
         if (rec >= 0) {        /* explain: the weight so far, for what follows */
@@ -248,6 +496,8 @@ radiance trace_ray(tracer *t, const lc_ray *r0, int depth)
                 point_lights(t, &h, m, plan, n, v, &sum);
             if (t->needs & LC_NEED_EMITTER)
                 emitters(t, &h, m, plan, n, v, &sum);
+            if (t->needs & LC_NEED_AREA)
+                area_lights(t, &h, m, plan, n, v, &pa, &sum);
         }
 
         radiance base = r_scale(sum.diffuse, m->kd);             /* kd Cd */
@@ -265,7 +515,7 @@ radiance trace_ray(tracer *t, const lc_ray *r0, int depth)
         if (plan & PLAN_EMITS)
             local = r_add(local, rad(m->emission));
         acc = r_add(acc, r_mul(w, local));
-        if (!(plan & PLAN_REFLECT) || depth >= t->max_depth)
+        if (!(plan & (PLAN_REFLECT | PLAN_GLOSSY)) || pa.depth >= t->max_depth)
             break;
         /* Adaptive depth (POV-Ray's adc_bailout): a bounce that can add at
         ** most cutoff times what it sees is not traced. */
@@ -274,25 +524,38 @@ radiance trace_ray(tracer *t, const lc_ray *r0, int depth)
             break;
         }
         lc_vec3 rd = v3_madd(r.d, n, -2 * v3_dot(r.d, n));       /* kr Cr */
+        lc_ray_kind kind = LC_RAY_REFLECTION;
+        if (plan & PLAN_GLOSSY) {
+            lc_vec3 axis = v3_norm(rd);
+            if (!split) {
+                acc = r_add(acc, glossy_split(t, &h, m, n, axis, &pa, next, rec));
+                break;
+            }
+            /* After the split, one cone ray per bounce, at the path's own place. */
+            if (!(cone_sample(t, m, axis, n, pa.depth, pa.index, pa.count, &rd) > 0))
+                break;
+            kind = LC_RAY_GLOSSY;
+        }
         r.o = spawn_origin(&h, rd);
         r.d = v3_norm(rd);
-        t->rays[LC_RAY_REFLECTION]++;
+        t->rays[kind]++;
         from = h.shape;
         watch = cannot_return(&h, rd);
         w = next;
-        depth++;
+        pa.depth++;
         if (rec >= 0)
-            rec = log_ray(t, rec, LC_RAY_REFLECTION, &r);
+            rec = log_ray(t, rec, kind, &r);
     }
-    /* explain: each camera or reflection ray brought back everything added
-    ** from its own hit on; it held the sum before that. */
+    /* explain: each camera, reflection or cone ray brought back everything
+    ** added from its own hit on; it held the sum before that. */
     for (int i = rec; i >= 0 && t->log; i = t->log->r[i].parent) {
         lc_ray_record *x = &t->log->r[i];
         const double *b = t->log->before + 3 * i;
-        if (x->kind == LC_RAY_SHADOW)
-            continue;
-        x->contribution = rgb((float)(acc.r - b[0]), (float)(acc.g - b[1]),
-                              (float)(acc.b - b[2]));
+        if (x->kind != LC_RAY_SHADOW && x->kind != LC_RAY_LIGHT)
+            x->contribution = rgb((float)(acc.r - b[0]), (float)(acc.g - b[1]),
+                                  (float)(acc.b - b[2]));
+        if (i == first)
+            break;
     }
     return acc;
 }

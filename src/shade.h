@@ -2,6 +2,7 @@
 #ifndef LC_SHADE_H
 #define LC_SHADE_H
 
+#include "sample.h"
 #include "scene.h"
 
 /* explain's record of the rays one sample traces (NULL while rendering). */
@@ -22,10 +23,15 @@ typedef struct {
     int      max_depth;
     int      cosine;
     double   cutoff;
+    int      light_samples;    /* per emissive shape and hit; 0: toward its centre */
+    int      cone_samples;     /* > 0: every glossy material's count */
+    pixel_sampler ps;          /* the pixel being traced */
     uint64_t rays[LC_RAY_KINDS];   /* this thread's counts */
     int      parent;           /* explain: the record of the ray being shaded */
     double   w[3];             /* explain: that ray's weight in the pixel */
     uint64_t self_hits;
+    uint64_t samples;          /* camera samples traced */
+    uint64_t converged;        /* adaptive: pixels that stopped under the noise target */
 } tracer;
 
 /* Radiance in double: the float colours of materials and lights are
@@ -43,7 +49,8 @@ typedef struct { double r, g, b; } radiance;
 ** double). Tested by the light-on-surface cases. */
 #define SHADOW_SHORTEN 1e-9
 
-radiance trace_ray(tracer *t, const lc_ray *r, int depth);
+/* The radiance camera sample `index` of `count` of the pixel brings back. */
+radiance trace_ray(tracer *t, const lc_ray *r, uint32_t index, uint32_t count);
 
 /* explain: appends a record of ray r (its parent and kind); -1 if it cannot. */
 int log_ray(tracer *t, int parent, lc_ray_kind kind, const lc_ray *r);

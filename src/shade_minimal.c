@@ -20,11 +20,12 @@
 #endif
 
 
-radiance trace_ray(tracer *t, const lc_ray *r, int depth)
+radiance trace_ray(tracer *t, const lc_ray *r, uint32_t index, uint32_t count)
 {
     const lc_scene *s = t->scene;
     lc_hit h;
-    (void)depth;
+    (void)index;
+    (void)count;
     if (!scene_closest_n(s, r, HUGE_VAL, &h, &t->counts)) {
         lc_color bg = s->settings.background;
         radiance c = {bg.r, bg.g, bg.b};

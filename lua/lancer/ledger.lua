@@ -2,8 +2,9 @@
 -- `lancer --stats` prints after each render (lancer.ledger(stats) in a script).
 local M = {}
 
-local KINDS = {"camera", "shadow", "reflection", "cut"}
-local EFFECTS = {"shadow", "emitter", "specular", "reflect", "ambient"}
+local KINDS = {"camera", "shadow", "reflection", "glossy", "light", "cut"}
+local EFFECTS = {"shadow", "emitter", "area", "specular", "reflect", "glossy", "ambient",
+                 "lens"}
 
 function M.format(st, label)
   local out = {}
@@ -19,6 +20,10 @@ function M.format(st, label)
   for _, k in ipairs(KINDS) do rays[#rays + 1] = ("%s %d"):format(k, st.rays[k] or 0) end
   add("  rays      %s; %d traced, %.2f Mrays/s", table.concat(rays, ", "), total,
       st.trace_seconds > 0 and total / st.trace_seconds / 1e6 or 0)
+  if st.samples then
+    add("  samples   %d camera samples%s", st.samples,
+        (st.converged or 0) > 0 and (", %d pixels converged early"):format(st.converged) or "")
+  end
   add("  tests     %d primitive, %d BVH node (%.1f and %.1f per ray)", st.prim_tests,
       st.node_tests, total > 0 and st.prim_tests / total or 0,
       total > 0 and st.node_tests / total or 0)

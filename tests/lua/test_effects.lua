@@ -174,7 +174,7 @@ T.test("explain: the ray tree of one pixel adds up to the pixel", function()
     -- every shadow ray names its light and says whether it got through
     local function walk(node, depth)
       for _, child in ipairs(node.rays) do
-        if child.kind == "shadow" then
+        if child.kind == "shadow" or child.kind == "light" then
           assert(child.light and child.visible ~= nil, "shadow ray fields")
         else
           T.eq(child.kind, "reflection", "child kinds")

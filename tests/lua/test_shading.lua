@@ -199,7 +199,7 @@ T.test("absorb='all' multiplies the whole sum by the colour (the seed)", functio
   T.near(b, 0.6 * (0.5 + 0.7) * lc, 1e-6, "blue")
 end)
 
-T.test("emissive sphere lights a plane by pi*L*(r/d)^2: reads kd*C*L*(r/d)^2", function()
+T.test("light_samples = 0: an emissive sphere lights by pi*L*(r/d)^2 toward its centre", function()
   local r, d, L, kd = 0.5, 4, 10, 0.9
   local scene = lancer.scene{camera = lancer.camera{from = {0, 2, 0.001}, at = {0, 0, 0},
                                                     up = {0, 0, 1}, fov = 0.5}}
@@ -207,9 +207,8 @@ T.test("emissive sphere lights a plane by pi*L*(r/d)^2: reads kd*C*L*(r/d)^2", f
                          material = lancer.material{kd = kd}})
   scene:add(lancer.sphere{center = {0, d, 0}, radius = r,
                           material = lancer.material{kd = 0, emission = L}})
-  local img, stats = scene:render{width = 1, height = 1}
-  -- The camera looks down past the light's side? No: from below it; the
-  -- pixel sees the plane at ~(0, 0, 0), where the light is straight above.
+  local img, stats = scene:render{width = 1, height = 1, light_samples = 0}
+  -- The camera looks down at the plane near (0, 0, 0), straight under the light.
   T.near(select(1, img:pixel(1, 1)), kd * L * (r / d) ^ 2, 1e-4, "plane under the light")
   T.eq(stats.effects.emitter, true, "emitter effect")
   T.eq(stats.rays.shadow, 1, "one shadow ray toward the light's centre")
