@@ -167,7 +167,7 @@ local function sweep(scene, base, knob, seeds)
   local ref_var = halves[1]:error(halves[2]).mse / 4
   say("reference %s in %d s", ref_note, os.time() - t0)
 
-  local r = {knob = name, ref_note = ref_note, ref_value = ref_value, ref_var = ref_var,
+  local r = {knob = name, samples = base.samples or 1, ref_note = ref_note, ref_value = ref_value, ref_var = ref_var,
              width = ref.width, height = ref.height, seeds = seeds, levels = {},
              runs = {}, kinds = nil}
   for _, level in ipairs(levels) do
@@ -229,6 +229,11 @@ local function table_text(r, label)
     add("warning: the reference is noisier than NUMERICS.md 3.1 allows (1/16): the " ..
         "best level's RMSE is overstated by up to %.0f %%", 100 * (1 - math.sqrt(
         math.max(0, 1 - ratio))))
+    if r.knob ~= "samples" and r.samples > 1 then
+      add("hint: at samples=%d the pixel noise, which %s does not reduce, is in the " ..
+          "reference and in every level; --samples 1 measures %s alone", r.samples,
+          r.knob, r.knob)
+    end
   end
   add("%14s %9s %12s %10s %21s %10s %11s", r.knob, "seconds", "rays", "RMSE",
       "RMSE min-max", "relMSE", "efficiency")
