@@ -243,6 +243,11 @@ local function table_text(r, label)
         L.mean_relmse, L.efficiency)
   end
   local gain = r.best.efficiency / r.levels[1].efficiency
+  local same = true
+  for _, L in ipairs(r.levels) do same = same and L.mean_rays == r.levels[1].mean_rays end
+  if same and #r.levels > 1 then
+    add("note: every level traced the same rays: nothing in this scene uses %s", r.knob)
+  end
   add("best value: %s=%d (efficiency %.4g per second%s)", r.knob, r.best.level,
       r.best.efficiency, gain < math.huge and r.best ~= r.levels[1] and
       (", %.2fx %s=%d's"):format(gain, r.knob, r.levels[1].level) or "")
@@ -349,7 +354,6 @@ function M.render(scene, opts)
   scene.max_depth = saved.depth
   if not ok then error(err, 0) end
   local last = err[#err]
-  M.last = last.r
   return last.ref, last.stats
 end
 

@@ -182,6 +182,20 @@ print("max_depth after: " .. s.max_depth)
   os.execute("rm -rf " .. q(dir))
 end)
 
+T.test("--accuracy: a knob the scene has no use for is said to change nothing", function()
+  local dir = temp_dir()
+  local script = dir .. "/plain.lua"
+  write(script, SCENE .. "s:render{width = 16, height = 12}\n")
+  local out, err, code = T.run(
+    ("%s --accuracy --knob cone_samples=1,4 --seeds 2 --out %s %s")
+    :format(q(T.lancer), q(dir), q(script)))
+  T.eq(code, 0, "exit status; stderr: " .. err)
+  assert(out:find("nothing in this scene uses cone_samples", 1, true), out)
+  local rows = read_csv(dir .. "/plain-cone_samples-runs.csv")
+  T.eq(rows[1].glossy + rows[3].glossy, 0, "no glossy rays at either level")
+  os.execute("rm -rf " .. q(dir))
+end)
+
 T.test("--accuracy: bad options exit 2 naming the flag, before any render", function()
   local dir = temp_dir()
   local script = dir .. "/s.lua"
