@@ -167,9 +167,9 @@ local function sweep(scene, base, knob, seeds)
   local ref_var = halves[1]:error(halves[2]).mse / 4
   say("reference %s in %d s", ref_note, os.time() - t0)
 
-  local r = {knob = name, samples = base.samples or 1, ref_note = ref_note, ref_value = ref_value, ref_var = ref_var,
-             width = ref.width, height = ref.height, seeds = seeds, levels = {},
-             runs = {}, kinds = nil}
+  local r = {knob = name, samples = base.samples or 1, ref_note = ref_note,
+             ref_value = ref_value, ref_var = ref_var, width = ref.width,
+             height = ref.height, seeds = seeds, levels = {}, runs = {}, kinds = nil}
   for _, level in ipairs(levels) do
     local L = {level = level, seconds = {}, rays = {}, rmse = {}, mse = {}, relmse = {},
                mae = {}, bias = {}}
