@@ -26,6 +26,8 @@ scene:add(lancer.point_light{position = {3, 4, 2}, color = {0.2, 0.45, 1}, inten
 -- Seen directly, 12 is far above 1 and shows clamped: the red and blue are
 -- kept below 1 so it still looks green. kd = 0: it only shines, unlit.
 -- It is a solid ball too, so it casts shadows from the point lights.
+-- As a light it is sampled over its area (16 points per lit point by
+-- default, render{light_samples = ...}), so its shadows are soft.
 scene:add(lancer.sphere{center = {0.2, 0.9, 1.8}, radius = 0.25,
                         material = lancer.material{kd = 0, emission = {0.3, 12, 0.6}}})
 

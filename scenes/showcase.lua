@@ -79,6 +79,6 @@ scene:add(lancer.point_light{position = {6, 4, 3}, color = {0.55, 0.7, 1}, inten
 scene:add(lancer.sphere{center = {-1.3, 0.3, 3.1}, radius = 0.3,
                         material = lancer.material{kd = 0, emission = {5, 1.6, 0.3}}})
 
-local img, stats = scene:render{width = 800, height = 600, samples = 4}
+local img, stats = scene:render{width = 800, height = 600, samples = 4, light_samples = 4}
 img:save(arg and arg[1] or "showcase.png")
 print(("showcase: %dx%d in %.2fs"):format(img.width, img.height, stats.seconds))

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "adaptive.h"
 #include "camera.h"
 #include "error.h"
 #include "image.h"
@@ -66,6 +67,8 @@ typedef struct {
     pthread_mutex_t lock;
     pthread_cond_t  tile_done;
     int             next, done, cancel, running;
+    adaptive       *adaptive;   /* NULL: every pixel takes `samples` */
+    double          base, share;   /* progress: this pass's start and part of all */
 } job;
 
 typedef struct {
@@ -107,60 +110,52 @@ static radiance camera_sample(const job *j, tracer *t, int x, int y, uint32_t s,
     return trace_ray(t, &ray, s, n);
 }
 
-/* Adaptive sampling's error estimate (Dammertz et al. 2010, as in Cycles):
-** the mean of all n samples against the mean of the odd-numbered half,
-** relative to the square root of the brightness (what the eye sees of
-** noise), with 0.01 so black pixels converge. Valid with the progressive
-** Sobol' points, where the sample variance would be pessimistic. */
-static double pixel_error(const double all[3], const double odd[3], uint32_t n)
+/* Writes the mean of n samples; under RADIANCE_CAP, so the float is
+** finite (FLT_MAX at most). */
+static void put_pixel(lc_image *img, int x, int y, const double sum[3], uint32_t n)
 {
-    double e = 0, lum = 0;
-    for (int c = 0; c < 3; c++) {
-        double mean = all[c] / n, half = odd[c] / (n / 2);
-        e += fabs(mean - half);
-        lum += mean;
-    }
-    return (e / 3) / (sqrt(fmax(lum / 3, 0)) + 0.01);
+    lc_image_set(img, x, y, rgb((float)fmin(sum[0] / n, FLT_MAX),
+                                (float)fmin(sum[1] / n, FLT_MAX),
+                                (float)fmin(sum[2] / n, FLT_MAX)));
 }
 
 static void render_tile(job *j, tracer *t, int tile)
 {
     const lc_render_options *o = j->o;
+    adaptive *ad = j->adaptive;
     int x0 = (tile % j->tiles_x) * TILE, y0 = (tile / j->tiles_x) * TILE;
     int x1 = x0 + TILE < j->img->width ? x0 + TILE : j->img->width;
     int y1 = y0 + TILE < j->img->height ? y0 + TILE : j->img->height;
     uint32_t n = (uint32_t)o->samples;
     for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++) {
-            uint64_t pixel = (uint64_t)y * j->img->width + x;
+            size_t pixel = (size_t)y * j->img->width + x;
+            if (ad && !ad->active[pixel])
+                continue;
             t->ps = pixel_sampler_init(o->sampler, o->seed, o->frame, pixel);
-            double sum[3] = {0, 0, 0}, odd[3] = {0, 0, 0};
-            uint32_t done = 0, check = n;
-            if (o->noise > 0) {     /* checks at min_samples, then each doubling */
-                check = (uint32_t)o->min_samples + (o->min_samples & 1);
-                if (check > n)
-                    check = n;
-            }
-            for (;;) {
-                for (; done < check; done++) {
-                    radiance c = camera_sample(j, t, x, y, done, n);
+            if (!ad) {
+                double sum[3] = {0, 0, 0};
+                for (uint32_t s = 0; s < n; s++) {
+                    radiance c = camera_sample(j, t, x, y, s, n);
                     sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
-                    if (done & 1)
-                        odd[0] += c.r, odd[1] += c.g, odd[2] += c.b;
                 }
-                if (done >= n)
-                    break;
-                if (pixel_error(sum, odd, done) < o->noise) {
-                    t->converged++;
-                    break;
-                }
-                check = 2 * done < n ? 2 * done : n;
+                t->samples += n;
+                put_pixel(j->img, x, y, sum, n);
+                continue;
             }
-            t->samples += done;
-            /* Under RADIANCE_CAP, so the float is finite (FLT_MAX at most). */
-            lc_image_set(j->img, x, y, rgb((float)fmin(sum[0] / done, FLT_MAX),
-                                           (float)fmin(sum[1] / done, FLT_MAX),
-                                           (float)fmin(sum[2] / done, FLT_MAX)));
+            /* Adaptive: on from where the last pass stopped; odd-numbered
+            ** samples also go to the half the error is estimated with. */
+            double *sum = ad->sum + 6 * pixel;
+            uint32_t s = ad->n[pixel];
+            for (; s < ad->target; s++) {
+                radiance c = camera_sample(j, t, x, y, s, n);
+                sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
+                if (s & 1)
+                    sum[3] += c.r, sum[4] += c.g, sum[5] += c.b;
+            }
+            t->samples += s - ad->n[pixel];
+            ad->n[pixel] = s;
+            put_pixel(j->img, x, y, sum, s);
         }
 }
 
@@ -267,6 +262,57 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
     return LC_OK;
 }
 
+/* Runs every tile of one pass on the workers (tracers kept across passes)
+** while this thread reports progress and honours cancel. Returns the
+** number of threads that ran. */
+static int run_pass(job *j, worker *ws, int nt)
+{
+    const lc_render_options *o = j->o;
+    j->next = j->done = 0;
+    int started = 0;
+    for (int i = 0; i < nt; i++) {
+        ws[i].j = j;
+        pthread_mutex_lock(&j->lock);
+        j->running++;
+        pthread_mutex_unlock(&j->lock);
+        if (pthread_create(&ws[i].thread, NULL, work, &ws[i]) != 0) {
+            pthread_mutex_lock(&j->lock);
+            j->running--;
+            pthread_mutex_unlock(&j->lock);
+            break;
+        }
+        started++;
+    }
+    if (started == 0) {     /* no thread could start: trace on this one */
+        j->running = 1;
+        work(&ws[0]);
+    }
+    /* The calling thread reports progress between tiles and honours cancel. */
+    pthread_mutex_lock(&j->lock);
+    while (j->running > 0) {
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_nsec += 100000000;
+        if (until.tv_nsec >= 1000000000) {
+            until.tv_sec++;
+            until.tv_nsec -= 1000000000;
+        }
+        pthread_cond_timedwait(&j->tile_done, &j->lock, &until);
+        if (o->progress && !j->cancel) {
+            double done = j->base + j->share * j->done / j->ntiles;
+            pthread_mutex_unlock(&j->lock);
+            int stop = o->progress(o->progress_ud, done);
+            pthread_mutex_lock(&j->lock);
+            if (stop)
+                j->cancel = 1;
+        }
+    }
+    pthread_mutex_unlock(&j->lock);
+    for (int i = 0; i < started; i++)
+        pthread_join(ws[i].thread, NULL);
+    return started ? started : 1;
+}
+
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
                           lc_error *err)
 {
@@ -299,57 +345,33 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     }
     if (nt > j.ntiles)
         nt = j.ntiles;
+    adaptive ad;
     worker *ws = calloc((size_t)nt, sizeof *ws);
-    if (!ws) {
-        lc_image_free(img);
+    if (!ws)
         lc_fail(err, LC_ENOMEM, NULL, "out of memory starting %d threads", nt);
+    if (!ws || (o->noise > 0 && adaptive_init(&ad, o, err))) {
+        free(ws);
+        lc_image_free(img);
         return NULL;
     }
+    for (int i = 0; i < nt; i++)
+        tracer_init(&ws[i].t, s, o);
     pthread_mutex_init(&j.lock, NULL);
     pthread_cond_init(&j.tile_done, NULL);
-    int started = 0;
-    for (int i = 0; i < nt; i++) {
-        ws[i].j = &j;
-        tracer_init(&ws[i].t, s, o);
-        pthread_mutex_lock(&j.lock);
-        j.running++;
-        pthread_mutex_unlock(&j.lock);
-        if (pthread_create(&ws[i].thread, NULL, work, &ws[i]) != 0) {
-            pthread_mutex_lock(&j.lock);
-            j.running--;
-            pthread_mutex_unlock(&j.lock);
-            break;
-        }
-        started++;
+    int threads;
+    j.share = 1;
+    if (o->noise > 0) {
+        /* Passes to min_samples, then doubling: progress by samples' worth. */
+        j.adaptive = &ad;
+        double total = log2((double)ad.max / ad.target) + 1;
+        do {
+            j.share = 1 / total;
+            threads = run_pass(&j, ws, nt);
+            j.base += j.share;
+        } while (!j.cancel && adaptive_next(&ad));
+    } else {
+        threads = run_pass(&j, ws, nt);
     }
-    if (started == 0) {     /* no thread could start: trace on this one */
-        ws[0].j = &j;
-        j.running = 1;
-        work(&ws[0]);
-    }
-    /* The calling thread reports progress between tiles and honours cancel. */
-    pthread_mutex_lock(&j.lock);
-    while (j.running > 0) {
-        struct timespec until;
-        clock_gettime(CLOCK_REALTIME, &until);
-        until.tv_nsec += 100000000;
-        if (until.tv_nsec >= 1000000000) {
-            until.tv_sec++;
-            until.tv_nsec -= 1000000000;
-        }
-        pthread_cond_timedwait(&j.tile_done, &j.lock, &until);
-        if (o->progress && !j.cancel) {
-            double done = (double)j.done / j.ntiles;
-            pthread_mutex_unlock(&j.lock);
-            int stop = o->progress(o->progress_ud, done);
-            pthread_mutex_lock(&j.lock);
-            if (stop)
-                j.cancel = 1;
-        }
-    }
-    pthread_mutex_unlock(&j.lock);
-    for (int i = 0; i < started; i++)
-        pthread_join(ws[i].thread, NULL);
     double t2 = clock_seconds();
 
     lc_stats sum;
@@ -359,9 +381,12 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
             sum.rays[k] += ws[i].t.rays[k];
         sum.self_hits += ws[i].t.self_hits;
         sum.samples += ws[i].t.samples;
-        sum.converged += ws[i].t.converged;
         sum.prim_tests += ws[i].t.counts.prims;
         sum.node_tests += ws[i].t.counts.nodes;
+    }
+    if (j.adaptive) {
+        sum.converged = adaptive_converged(&ad);
+        adaptive_free(&ad);
     }
     sum.compile_seconds = t1 - t0;
     sum.trace_seconds = t2 - t1;
@@ -371,7 +396,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     sum.primitives = s->nspheres + s->nquads + s->nboxes + s->nplanes + s->c.ntris;
     sum.degenerate = s->c.degenerate;
     memcpy(sum.why, s->c.why, sizeof sum.why);
-    sum.threads = started ? started : 1;
+    sum.threads = threads;
     int cancelled = j.cancel;
     free(ws);
     pthread_mutex_destroy(&j.lock);

@@ -31,7 +31,6 @@ typedef struct {
     double   w[3];             /* explain: that ray's weight in the pixel */
     uint64_t self_hits;
     uint64_t samples;          /* camera samples traced */
-    uint64_t converged;        /* adaptive: pixels that stopped under the noise target */
 } tracer;
 
 /* Radiance in double: the float colours of materials and lights are

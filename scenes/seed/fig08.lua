@@ -29,5 +29,7 @@ scene:add(lancer.sphere{center = {1.7, 0.7, -0.6}, radius = 0.7, material = diff
 scene:add(lancer.sphere{center = {0.5, 0.45, 1.6}, radius = 0.45, material = diffuse{1, 0, 1}})
 scene:add(lancer.box{min = {-0.5, 0, -2.2}, max = {0.5, 1, -1.2}, material = diffuse{1, 1, 1}})
 
-local img = scene:render{width = 400, height = 300}
+-- The seed's lights: one ray toward each glowing sphere's centre, hard
+-- shadows (light_samples = 0); leave it out for soft shadows.
+local img = scene:render{width = 400, height = 300, light_samples = 0}
 img:save(arg and arg[1] or "fig08.png")

@@ -20,5 +20,7 @@ scene:add(lancer.sphere{center = {-2.0, 1.0, 2.2}, radius = 0.25,
 scene:add(lancer.sphere{center = {2.0, 1.0, 2.2}, radius = 0.25,
                         material = lancer.material{kd = 0, emission = {0, 75, 0}}})
 
-local img = scene:render{width = 400, height = 300}
+-- The seed's lights: one ray toward each glowing sphere's centre, hard
+-- shadows (light_samples = 0); leave it out for soft shadows.
+local img = scene:render{width = 400, height = 300, light_samples = 0}
 img:save(arg and arg[1] or "fig09.png")

@@ -36,5 +36,7 @@ scene:add(lancer.sphere{center = {-2.2, -1.25, 1.6}, radius = 0.2,
 scene:add(lancer.sphere{center = {2.2, -1.25, 1.6}, radius = 0.2,
                         material = light{0, 75, 0}})
 
-local img = scene:render{width = 400, height = 300}
+-- The seed's lights: one ray toward each glowing sphere's centre, hard
+-- shadows (light_samples = 0); leave it out for soft shadows.
+local img = scene:render{width = 400, height = 300, light_samples = 0}
 img:save(arg and arg[1] or "fig10.png")

@@ -1617,12 +1617,6 @@ local function waits(id, what, field, call)
   end)
 end
 local function mat(t) return function() lancer.material(t) end end
-local function opt(t)
-  return function()
-    local sc = lancer.scene{camera = lancer.camera{from = {0, 0, -1}, at = {0, 0, 0}}}
-    sc:render(t)
-  end
-end
 waits("H18", "total internal reflection in a 45-45-90 glass prism: 0.9216 L", "ior",
       mat{ior = 1.5})
 waits("H19", "Fresnel at grazing incidence, F in [0, 1], R + T = 1", "ior", mat{ior = 2.4})
@@ -1630,8 +1624,6 @@ waits("H20", "nested dielectrics: no phantom surface, bubble 0.849 L", "ior", ma
 waits("H21(c)", "glass furnace: B within 1 % inside 0.9 r", "ior", mat{ior = 1.5})
 waits("H31", "checker to the horizon converges to its mean", "texture",
       mat{texture = "checker"})
-waits("T7", "adaptive sampling by pixel variance", "adaptive",
-      opt{width = 2, height = 2, adaptive = 0.01})
 waits("A4", "refraction through a flat slab: shift t*sin(i - t)/cos t", "ior",
       mat{ior = 1.5})
 waits("A5", "Snell's window: the sky inside 48.61 degrees", "ior", mat{ior = 1.333})
