@@ -154,3 +154,54 @@ size_t lc_image_nonfinite(const lc_image *img)
         bad += !isfinite(img->px[i]);
     return bad;
 }
+
+/* pbrt-v4's MRSE offset: a black reference pixel weighs 1e4, not infinity. */
+#define RELMSE_OFFSET 0.01
+
+static lc_status same_size(const lc_image *a, const lc_image *b, const char *what,
+                           lc_error *err)
+{
+    if (a->width != b->width || a->height != b->height)
+        return lc_fail(err, LC_EARG, "image", "%s sizes differ: %dx%d and %dx%d", what,
+                       a->width, a->height, b->width, b->height);
+    return LC_OK;
+}
+
+lc_status lc_image_error(const lc_image *img, const lc_image *ref,
+                         lc_image_error_stats *out, lc_error *err)
+{
+    lc_status st = same_size(img, ref, "image and reference", err);
+    if (st)
+        return st;
+    size_t n = 3 * (size_t)img->width * img->height;
+    double se = 0, rel = 0, ae = 0, sum = 0;
+    for (size_t i = 0; i < n; i++) {
+        double r = ref->px[i], d = (double)img->px[i] - r;
+        double q = fabs(r) + RELMSE_OFFSET;
+        se += d * d;
+        rel += d * d / (q * q);
+        ae += fabs(d);
+        sum += d;
+    }
+    out->mse = se / n;
+    out->rmse = sqrt(out->mse);
+    out->relmse = rel / n;
+    out->mae = ae / n;
+    out->bias = sum / n;
+    lc_ok(err);
+    return LC_OK;
+}
+
+lc_status lc_image_add(lc_image *img, const lc_image *other, double weight, lc_error *err)
+{
+    if (!isfinite(weight))
+        return lc_fail(err, LC_EARG, "weight", "weight must be finite, got %g", weight);
+    lc_status st = same_size(img, other, "image", err);
+    if (st)
+        return st;
+    size_t n = 3 * (size_t)img->width * img->height;
+    for (size_t i = 0; i < n; i++)
+        img->px[i] = (float)(img->px[i] + weight * other->px[i]);
+    lc_ok(err);
+    return LC_OK;
+}

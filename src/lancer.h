@@ -353,4 +353,21 @@ size_t    lc_image_nonfinite(const lc_image *img);  /* NaN and infinite channels
 lc_status lc_image_compare(const lc_image *a, const lc_image *b, double tol,
                            lc_image_diff *d, lc_error *err);   /* same size */
 
+/* How far an image is from a reference, over every channel of every pixel,
+** on linear values (NUMERICS.md 3.1), summed in double. */
+typedef struct {
+    double mse;           /* mean (x - ref)^2 */
+    double rmse;          /* sqrt(mse) */
+    double relmse;        /* mean (x - ref)^2 / (|ref| + 0.01)^2, pbrt-v4's MRSE: dark
+                          ** pixels count, bright ones do not drown the rest */
+    double mae;           /* mean |x - ref| */
+    double bias;          /* mean (x - ref), signed: what more samples do not remove */
+} lc_image_error_stats;
+
+lc_status lc_image_error(const lc_image *img, const lc_image *ref,
+                         lc_image_error_stats *out, lc_error *err);   /* same size */
+/* img += weight * other, channel by channel (same size): averages renders. */
+lc_status lc_image_add(lc_image *img, const lc_image *other, double weight,
+                       lc_error *err);
+
 #endif

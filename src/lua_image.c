@@ -1,4 +1,4 @@
-/* lua_image.c: images: saving, loading, reading pixels, comparing. */
+/* lua_image.c: images: making, saving, loading, pixels, comparing, measuring error. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -112,6 +112,79 @@ static int w_image_pixel(lua_State *L)
     return 3;
 }
 
+/* img:set(x, y, r, g, b): 1-based like pixel; linear values, stored as given. */
+static int w_image_set(lua_State *L)
+{
+    lc_image *img = check_image(L, 1);
+    lua_Integer x = luaL_checkinteger(L, 2), y = luaL_checkinteger(L, 3);
+    lc_color c = {(float)luaL_checknumber(L, 4), (float)luaL_checknumber(L, 5),
+                  (float)luaL_checknumber(L, 6)};
+    int w = lc_image_width(img), h = lc_image_height(img);
+    if (x < 1 || x > w)
+        return luaL_argerror(L, 2, lua_pushfstring(L, "x must be in [1, %d], got %I", w, x));
+    if (y < 1 || y > h)
+        return luaL_argerror(L, 3, lua_pushfstring(L, "y must be in [1, %d], got %I", h, y));
+    lc_image_set(img, (int)x - 1, (int)y - 1, c);
+    return 0;
+}
+
+/* img:error(ref): {mse, rmse, relmse, mae, bias} of img against ref. */
+static int w_image_error(lua_State *L)
+{
+    lc_image *img = check_image(L, 1), *ref = check_image(L, 2);
+    lc_image_error_stats e;
+    lc_error err;
+    if (lc_image_error(img, ref, &e, &err))
+        return luaL_argerror(L, 2, err.msg);
+    lua_createtable(L, 0, 5);
+    lua_pushnumber(L, e.mse);
+    lua_setfield(L, -2, "mse");
+    lua_pushnumber(L, e.rmse);
+    lua_setfield(L, -2, "rmse");
+    lua_pushnumber(L, e.relmse);
+    lua_setfield(L, -2, "relmse");
+    lua_pushnumber(L, e.mae);
+    lua_setfield(L, -2, "mae");
+    lua_pushnumber(L, e.bias);
+    lua_setfield(L, -2, "bias");
+    return 1;
+}
+
+/* img:add(other [, weight = 1]): img += weight * other; returns img. */
+static int w_image_add(lua_State *L)
+{
+    lc_image *img = check_image(L, 1), *other = check_image(L, 2);
+    double weight = luaL_optnumber(L, 3, 1);
+    lc_error err;
+    if (lc_image_add(img, other, weight, &err))
+        return luaL_argerror(L, strcmp(err.field, "weight") == 0 ? 3 : 2, err.msg);
+    lua_settop(L, 1);
+    return 1;
+}
+
+/* lancer.image{width, height, color = 0}: an image of one colour, to draw
+** on (lancer.plot) or to sum renders into (img:add). */
+static int w_image(lua_State *L)
+{
+    static const char *const known[] = {"width", "height", "color", NULL};
+    lf_open(L, 1, known);
+    int w = lf_integer(L, 1, "width", 1, 0), h = lf_integer(L, 1, "height", 1, 0);
+    lc_color black = {0, 0, 0};
+    lc_color c = lf_color(L, 1, "color", 0, black);
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    ui->img = NULL;
+    luaL_setmetatable(L, IMAGE);
+    lc_error err;
+    ui->img = lc_image_new(w, h, &err);
+    if (!ui->img)
+        return lf_raise(L, 1, &err);
+    if (c.r != 0 || c.g != 0 || c.b != 0)
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++)
+                lc_image_set(ui->img, x, y, c);
+    return 1;
+}
+
 static int w_image_tostring(lua_State *L)
 {
     ud_image *u = luaL_checkudata(L, 1, IMAGE);
@@ -145,8 +218,11 @@ void image_register(lua_State *L)
         {"__index", w_image_index}, {NULL, NULL}};
     static const luaL_Reg image_methods[] = {
         {"save", w_image_save}, {"pixel", w_image_pixel}, {"diff", w_image_diff},
-        {"nonfinite", w_image_nonfinite}, {NULL, NULL}};
+        {"nonfinite", w_image_nonfinite}, {"set", w_image_set}, {"error", w_image_error},
+        {"add", w_image_add}, {NULL, NULL}};
     binding_class(L, IMAGE, image_meta, image_methods);
     lua_pushcfunction(L, w_load_png);
     lua_setfield(L, -2, "load_png");
+    lua_pushcfunction(L, w_image);
+    lua_setfield(L, -2, "image");
 }

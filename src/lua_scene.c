@@ -434,7 +434,7 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
 }
 
 /* lancer.overrides[name] is true: --check sends renders to lancer.check,
-** --stats prints each render's ledger. */
+** --accuracy to lancer.accuracy, --stats prints each render's ledger. */
 static int override_flag(lua_State *L, const char *name)
 {
     int top = lua_gettop(L), on = 0;
@@ -446,6 +446,19 @@ static int override_flag(lua_State *L, const char *name)
     }
     lua_settop(L, top);
     return on;
+}
+
+/* Hands render(scene, opts) to module.render: --check and --accuracy. */
+static int divert_render(lua_State *L, const char *module)
+{
+    lua_getglobal(L, "require");
+    lua_pushstring(L, module);
+    lua_call(L, 1, 1);
+    lua_getfield(L, -1, "render");
+    lua_pushvalue(L, 1);
+    lua_pushvalue(L, 2);
+    lua_call(L, 2, 2);
+    return 2;
 }
 
 static const char *const sampler_opts[] = {"sobol", "jitter", "random", NULL};
@@ -509,16 +522,10 @@ static int w_scene_render(lua_State *L)
                                         NULL};
     ud_scene *u = check_scene(L, 1);
     lua_settop(L, 2);
-    if (override_flag(L, "check")) {
-        lua_getglobal(L, "require");
-        lua_pushliteral(L, "lancer.check");
-        lua_call(L, 1, 1);
-        lua_getfield(L, -1, "render");
-        lua_pushvalue(L, 1);
-        lua_pushvalue(L, 2);
-        lua_call(L, 2, 2);
-        return 2;
-    }
+    if (override_flag(L, "check"))
+        return divert_render(L, "lancer.check");
+    if (override_flag(L, "accuracy"))
+        return divert_render(L, "lancer.accuracy");
     if (lua_isnoneornil(L, 2)) {
         lua_settop(L, 1);
         lua_newtable(L);

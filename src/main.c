@@ -18,6 +18,7 @@
 #define LANCER_VERSION LC_VERSION
 #define HISTORY_FILE   ".lancer_history" /* under $HOME */
 #define HISTORY_MAX    1000              /* lines kept across sessions */
+#define ACCURACY_KNOBS 8                 /* --knob options one run takes */
 
 /* The pure-Lua modules, embedded by tools/embed-lua.sh (NULL-name ended), so
 ** the command runs from anywhere with no lua/ directory beside it. */
@@ -55,7 +56,13 @@ struct cmdline {
     int stats;              /* --stats: print each render's ledger */
     int unstable;           /* --check found it was not: exit 3 */
     struct anim_opts anim;  /* --frames, --shard, --video, ... */
-    int late_usage;         /* a usage error found after the script ran: exit 2 */
+    int late_usage;         /* a usage error found once Lua ran (a frame option
+                            ** without an animation, a bad --knob): exit 2 */
+    int accuracy;           /* --accuracy: error against time over --knob levels */
+    const char *knobs[ACCURACY_KNOBS];  /* --knob NAME=L1,L2,... as given */
+    int nknobs;
+    lua_Integer seeds;      /* --seeds N; 0: not given */
+    const char *out;        /* --out DIR; NULL: not given */
 };
 
 enum { PARSE_RUN, PARSE_DONE, PARSE_USAGE };
@@ -81,6 +88,8 @@ static void print_usage(void)
 "                                render an animation's frames, then an mp4\n"
 "  lancer --frames 1-24 --skip-existing orbit.lua\n"
 "                                frames 1 to 24 of it, those not yet written\n"
+"  lancer --accuracy --knob samples=1,4,16,64 scene.lua\n"
+"                                error against time over those levels\n"
 "  lancer                        the interactive prompt\n"
 "\n"
 "Options (before the script; arguments after it go to the script):\n"
@@ -110,6 +119,14 @@ static void print_usage(void)
 "  Each frame logs one line on stderr; a failed frame does not stop the others,\n"
 "  and the exit status is then 1.\n"
 "\n"
+"  --accuracy    render each image the script asks for at every level of each\n"
+"                --knob, against a reference 16x the largest; print error, time\n"
+"                and efficiency, write a CSV and a plot (see the README)\n"
+"  --knob NAME=L1,L2,...  with --accuracy: samples, cone_samples,\n"
+"                light_samples or max_depth (depth), increasing levels;\n"
+"                may be repeated\n"
+"  --seeds N     with --accuracy: renders per level, N >= 2 (default 4)\n"
+"  --out DIR     with --accuracy: where the CSV and PNG go (default out/accuracy)\n"
 "  --help        print this help and exit\n"
 "  --version     print the version and exit\n"
 "\n"
@@ -307,6 +324,47 @@ static int parse_anim_option(struct cmdline *cl, int *i, int *st)
     return 1;
 }
 
+/* "--knob V", "--out V" or with '='; lancer.accuracy checks what V says. */
+static int parse_accuracy_value(struct cmdline *cl, int *i, const char *name)
+{
+    const char *a = cl->argv[*i], *v;
+    if (a[strlen(name)] == '=')
+        v = a + strlen(name) + 1;
+    else if (cl->argv[*i + 1] != NULL)
+        v = cl->argv[++*i];
+    else
+        return usage_error("option '%s' needs a value", name);
+    if (*v == '\0')
+        return usage_error("option '%s' needs a value", name);
+    if (name[2] == 'o') {
+        cl->out = v;
+    } else if (cl->nknobs == ACCURACY_KNOBS) {
+        return usage_error("option '%s' may be given at most 8 times", name);
+    } else {
+        cl->knobs[cl->nknobs++] = v;
+    }
+    return PARSE_RUN;
+}
+
+/* The accuracy options go together: caught before anything runs. */
+static int check_accuracy_args(const struct cmdline *cl)
+{
+    if (!cl->accuracy) {
+        const char *stray = cl->nknobs ? "--knob" : cl->seeds ? "--seeds"
+                          : cl->out ? "--out" : NULL;
+        return stray ? usage_error("option '%s' needs --accuracy", stray) : PARSE_RUN;
+    }
+    if (cl->check)
+        return usage_error("option '%s' cannot go with --check", "--accuracy");
+    if (cl->script == 0)
+        return usage_error("option '%s' needs a script", "--accuracy");
+    if (cl->nknobs == 0)
+        return usage_error("option '%s' needs --knob NAME=L1,L2,...", "--accuracy");
+    if (cl->seeds == 1)
+        return usage_error("option '%s' needs at least 2 seeds, got 1", "--seeds");
+    return PARSE_RUN;
+}
+
 /* Checks every option before anything runs, so a typo costs no render. */
 static int parse_args(struct cmdline *cl)
 {
@@ -352,6 +410,12 @@ static int parse_args(struct cmdline *cl)
             st = parse_size(cl, &i, "--samples", &cl->samples);
         } else if (parse_anim_option(cl, &i, &st)) {
             /* --frames, --shard, --video, ... */
+        } else if (strcmp(a, "--accuracy") == 0) {
+            cl->accuracy = 1;
+        } else if (is_opt(a, "--knob") || is_opt(a, "--out")) {
+            st = parse_accuracy_value(cl, &i, a[2] == 'k' ? "--knob" : "--out");
+        } else if (is_opt(a, "--seeds")) {
+            st = parse_size(cl, &i, "--seeds", &cl->seeds);
         } else {
             return usage_error("unknown option '%s'", a);
         }
@@ -613,7 +677,52 @@ static int store_overrides(lua_State *L)
         lua_setfield(L, -2, "stats");
     }
     store_anim_overrides(L, &cl->anim);
+    if (cl->accuracy) {
+        lua_pushboolean(L, 1);
+        lua_setfield(L, -2, "accuracy");
+    }
     return 0;
+}
+
+/* --accuracy: hands the options to lancer.accuracy.setup, which returns
+** true or nil and the usage error. Runs protected. */
+static int accuracy_setup(lua_State *L)
+{
+    const struct cmdline *cl = lua_touserdata(L, 1);
+    lua_getglobal(L, "require");
+    lua_pushliteral(L, "lancer.accuracy");
+    lua_call(L, 1, 1);
+    lua_getfield(L, -1, "setup");
+    lua_createtable(L, 0, 3);
+    lua_createtable(L, cl->nknobs, 0);
+    for (int i = 0; i < cl->nknobs; i++) {
+        lua_pushstring(L, cl->knobs[i]);
+        lua_rawseti(L, -2, i + 1);
+    }
+    lua_setfield(L, -2, "knobs");
+    if (cl->seeds) {
+        lua_pushinteger(L, cl->seeds);
+        lua_setfield(L, -2, "seeds");
+    }
+    if (cl->out) {
+        lua_pushstring(L, cl->out);
+        lua_setfield(L, -2, "out");
+    }
+    lua_pushstring(L, cl->script_stdin ? "stdin" : cl->argv[cl->script]);
+    lua_setfield(L, -2, "script");
+    lua_call(L, 1, 2);
+    return 2;
+}
+
+/* After an --accuracy run: false when the script rendered nothing. */
+static int accuracy_finish(lua_State *L)
+{
+    lua_getglobal(L, "require");
+    lua_pushliteral(L, "lancer.accuracy");
+    lua_call(L, 1, 1);
+    lua_getfield(L, -1, "finish");
+    lua_call(L, 0, 1);
+    return 1;
 }
 
 /* After a --check run: lancer.check's verdict, as a boolean. */
@@ -631,7 +740,7 @@ static int check_verdict(lua_State *L)
 static int set_overrides(lua_State *L, const struct cmdline *cl)
 {
     if (!cl->width && !cl->height && !cl->samples && !cl->check && !cl->stats &&
-        !cl->anim.first)
+        !cl->anim.first && !cl->accuracy)
         return LUA_OK;
     lua_pushcfunction(L, store_overrides);
     lua_pushlightuserdata(L, (void *)cl);
@@ -869,6 +978,18 @@ static int pmain(lua_State *L)
     lua_gc(L, LUA_GCGEN, 0, 0);         /* lua5.4's mode, for like timings */
     if (set_overrides(L, cl) != LUA_OK)
         return 0;
+    if (cl->accuracy) {
+        lua_pushcfunction(L, accuracy_setup);
+        lua_pushlightuserdata(L, cl);
+        if (report(L, docall(L, 1, 2)) != LUA_OK)
+            return 0;
+        if (!lua_toboolean(L, -2)) {
+            usage_error("%s", lua_tostring(L, -1));
+            cl->late_usage = 1;
+            return 0;
+        }
+        lua_pop(L, 2);
+    }
     for (i = 0; i < cl->nchunks; i++) {
         const char *code = cl->chunks[i];
         int st = luaL_loadbuffer(L, code, strlen(code), "=(command line)");
@@ -899,6 +1020,12 @@ static int pmain(lua_State *L)
             cl->unstable = 1;
             return 0;
         }
+        lua_pop(L, 1);
+    }
+    if (cl->accuracy) {
+        lua_pushcfunction(L, accuracy_finish);
+        if (report(L, docall(L, 0, 1)) != LUA_OK || !lua_toboolean(L, -1))
+            return 0;
         lua_pop(L, 1);
     }
     if (cl->interactive) {
@@ -936,6 +1063,8 @@ int main(int argc, char **argv)
         return 1;
     }
     parsed = parse_args(&cl);
+    if (parsed == PARSE_RUN)
+        parsed = check_accuracy_args(&cl);
     if (parsed != PARSE_RUN) {
         free(cl.chunks);
         free(cl.anim.frames);

@@ -17,7 +17,7 @@ static void readme_example_renders(void **state)
     lc_error err;
     lc_scene *s = lc_scene_new(&err);
     assert_non_null(s);
-    lc_camera cam = {{0, 1, -4}, {0, 1, 0}, {0, 1, 0}, 1};
+    lc_camera cam = {{0, 1, -4}, {0, 1, 0}, {0, 1, 0}, 1, 0, 0};
     assert_int_equal(lc_scene_set_camera(s, &cam, &err), LC_OK);
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
@@ -72,7 +72,7 @@ static void progress_can_cancel(void **state)
     (void)state;
     lc_error err;
     lc_scene *s = lc_scene_new(&err);
-    lc_camera cam = {{0, 0, -4}, {0, 0, 0}, {0, 1, 0}, 60};
+    lc_camera cam = {{0, 0, -4}, {0, 0, 0}, {0, 1, 0}, 60, 0, 0};
     lc_scene_set_camera(s, &cam, &err);
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);

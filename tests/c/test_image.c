@@ -530,6 +530,75 @@ static void png_failed_rename_cleans_up(void **state)
     lc_image_free(other);
 }
 
+/* ---- Error against a reference -------------------------------------------- */
+
+static lc_image *image_2x1(lc_color a, lc_color b)
+{
+    lc_error err;
+    lc_image *img = lc_image_new(2, 1, &err);
+    assert_non_null(img);
+    lc_image_set(img, 0, 0, a);
+    lc_image_set(img, 1, 0, b);
+    return img;
+}
+
+/* Channel differences 0.25, 0, -0.25 | 0.25, -0.5, 0.125 against references
+** 0.25, 0.25, 0.25 | 0.75, 0.5, 0 (all exact in float): by hand, squares sum
+** to 0.453125, |d| to 1.375, d to -0.125; relMSE's terms are 0.0625/0.26^2
+** twice, 0.0625/0.76^2, 0.25/0.51^2 and 0.015625/0.01^2 = 156.25. */
+static void image_error_exact(void **state)
+{
+    (void)state;
+    lc_image *img = image_2x1((lc_color){0.5f, 0.25f, 0}, (lc_color){1, 0, 0.125f});
+    lc_image *ref = image_2x1((lc_color){0.25f, 0.25f, 0.25f},
+                              (lc_color){0.75f, 0.5f, 0});
+    lc_image_error_stats e;
+    lc_error err;
+    assert_int_equal(lc_image_error(img, ref, &e, &err), LC_OK);
+    assert_true(e.mse == 0.453125 / 6);
+    assert_true(e.rmse == sqrt(0.453125 / 6));
+    assert_true(e.mae == 1.375 / 6);
+    assert_true(e.bias == -0.125 / 6);
+    assert_true(fabs(e.relmse - 26.52808126307744) < 1e-12 * 26.5);
+    /* Against itself: every figure is exactly 0. */
+    assert_int_equal(lc_image_error(ref, ref, &e, &err), LC_OK);
+    assert_true(e.mse == 0 && e.rmse == 0 && e.relmse == 0 && e.mae == 0 && e.bias == 0);
+    lc_image_free(img);
+    lc_image_free(ref);
+}
+
+static void image_error_and_add_refuse_other_sizes(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_image *a = lc_image_new(2, 1, &err), *b = lc_image_new(1, 2, &err);
+    lc_image_error_stats e;
+    assert_int_equal(lc_image_error(a, b, &e, &err), LC_EARG);
+    assert_non_null(strstr(err.msg, "2x1 and 1x2"));
+    assert_int_equal(lc_image_add(a, b, 1, &err), LC_EARG);
+    assert_non_null(strstr(err.msg, "2x1 and 1x2"));
+    assert_int_equal(lc_image_add(a, a, NAN, &err), LC_EARG);
+    assert_string_equal(err.field, "weight");
+    lc_image_free(a);
+    lc_image_free(b);
+}
+
+/* Averaging two renders: a = 0.5 a + 0.5 b, exact for these values. */
+static void image_add_weighs(void **state)
+{
+    (void)state;
+    lc_image *a = image_2x1((lc_color){1, 2, 3}, (lc_color){0, -1, 0.5f});
+    lc_image *b = image_2x1((lc_color){3, 2, 1}, (lc_color){1, 1, 0.25f});
+    lc_error err;
+    assert_int_equal(lc_image_add(a, a, -0.5, &err), LC_OK);    /* a itself: halves */
+    assert_int_equal(lc_image_add(a, b, 0.5, &err), LC_OK);
+    lc_color p = lc_image_get(a, 0, 0), q = lc_image_get(a, 1, 0);
+    assert_true(p.r == 2 && p.g == 2 && p.b == 2);
+    assert_true(q.r == 0.5f && q.g == 0 && q.b == 0.375f);
+    lc_image_free(a);
+    lc_image_free(b);
+}
+
 #define IN_DIR(f) cmocka_unit_test_setup_teardown(f, setup_dir, teardown_dir)
 
 int main(void)
@@ -542,6 +611,9 @@ int main(void)
         cmocka_unit_test(encode_is_monotonic),
         cmocka_unit_test(image_new_rejects_bad_sizes),
         cmocka_unit_test(image_get_set_round_trip),
+        cmocka_unit_test(image_error_exact),
+        cmocka_unit_test(image_error_and_add_refuse_other_sizes),
+        cmocka_unit_test(image_add_weighs),
         IN_DIR(png_linear_round_trip),
         IN_DIR(png_srgb_round_trip),
         IN_DIR(png_missing_directory_fails),

@@ -4,7 +4,9 @@
 --   build/bin/lancer tools/bench/bench.lua [quick] [case ...]
 -- quick (or QUICK=1) runs a subset in under two minutes; case keys (b1,
 -- b2-1m, ...) run just those cases; FULL=1 also runs Tachyon on B2 1M and
--- B3 4M (about 3 minutes and 8 GB for 1M spheres).
+-- B3 4M (about 3 minutes and 8 GB for 1M spheres). The sections after the
+-- cases have keys too: robust, parity, knobs (T5: cost linear in camera,
+-- cone and light samples, tools/bench/knobs.lua).
 --
 -- For each case: write the POV-Ray and Tachyon files into out/bench/, then
 -- run lancer, POV-Ray and Tachyon in turn (interleaved, so a noisy spell
@@ -22,6 +24,7 @@ local run = module("run")
 local report = module("report")
 local robust = module("robust")
 local parity = module("parity")
+local knobs = module("knobs")
 
 local ROOT = run.output("cd " .. run.quote(here .. "/../..") .. " && pwd")
 local OUT = ROOT .. "/out/bench"
@@ -232,10 +235,10 @@ local machine = {
 for key in pairs(ONLY or {}) do
   local known = false
   for _, case in ipairs(CASES) do known = known or case.key == key end
-  known = known or key == "robust" or key == "parity"
+  known = known or key == "robust" or key == "parity" or key == "knobs"
   if not known then
     fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m "
-         .. "robust parity)", key)
+         .. "robust parity knobs)", key)
   end
 end
 local results = {}
@@ -263,6 +266,10 @@ if not ONLY or ONLY.parity then
   else
     say("%s not found: `make bench` builds it (make MINIMAL=1)", MINIMAL)
   end
+end
+if not ONLY or ONLY.knobs then
+  say("cost linear in each knob (T5)")
+  text = text .. "\n" .. knobs.section{say = say, quick = QUICK}
 end
 io.write(text)
 io.stdout:flush()                     -- before the last line on stderr

@@ -1,0 +1,122 @@
+-- knobs.lua: NUMERICS.md T5, the cost of each sampling knob is linear:
+-- trace time at 256 over trace time at 16 within [14.4, 17.6] for camera
+-- samples per pixel, cone samples per glossy hit and light samples per
+-- area light, each with the other two at 1.
+--
+-- Rendered in this process (bench.lua runs under lancer), on one scene
+-- built here so that every knob has work to do: a glossy floor filling
+-- most of the frame (cone rays at every floor pixel), diffuse shapes it
+-- reflects, and one emissive quad above as the only light (light samples
+-- at every diffuse hit). Levels alternate (16, 256, 16, 256, ...) so a
+-- noisy spell on the shared machine hits both; the ratio is the median of
+-- the runs' ratios.
+local lancer = require "lancer"
+
+local M = {}
+
+M.LOW, M.HIGH = 16, 256
+M.BAND = {14.4, 17.6}       -- 16x within 10 %
+M.KNOBS = {"samples", "cone_samples", "light_samples"}
+-- Image sides: a camera sample costs several rays, a cone or light sample
+-- one, so those get 2-4x the pixels; at 16 each render then takes 0.1-0.3 s
+-- on one thread, long enough for the clock, short enough for make bench.
+-- Smaller images in quick mode measured ratios off by 20 % (0.04 s renders).
+M.SIDE = {samples = 128, cone_samples = 192, light_samples = 256}
+
+function M.scene()
+  local s = lancer.scene{
+    camera = lancer.camera{from = {0, 2.2, -5}, at = {0, 0.3, 0}, fov = 60},
+    background = {0.05, 0.05, 0.08}, max_depth = 2}
+  s:add(lancer.plane{point = {0, 0, 0}, normal = {0, 1, 0},
+                     material = lancer.material{color = {0.8, 0.8, 0.75}, kd = 0.5,
+                                                kr = 0.5, glossiness = 8}})
+  s:add(lancer.sphere{center = {-1, 0.7, 0.5}, radius = 0.7,
+                      material = lancer.material{color = {0.85, 0.2, 0.15}}})
+  s:add(lancer.box{min = {0.4, 0, -0.3}, max = {1.4, 1, 0.7},
+                   material = lancer.material{color = {0.2, 0.4, 0.85}}})
+  s:add(lancer.sphere{center = {1.6, 0.35, -1.2}, radius = 0.35})
+  -- The only light: a 2x2 emitter 3 above the floor, sampled as an area light.
+  s:add(lancer.quad{corner = {-1, 3, -1}, u = {2, 0, 0}, v = {0, 0, 2},
+                    material = lancer.material{kd = 0, emission = 6}})
+  return s
+end
+
+-- ctx: {say, quick, runs}; quick: one run (about 8 s), else 3 (about 25 s).
+-- Returns the Markdown section.
+function M.section(ctx)
+  local say = ctx.say
+  local runs = ctx.runs or (ctx.quick and 1 or 3)
+  local scene = M.scene()
+  local rows = {}
+  for _, knob in ipairs(M.KNOBS) do
+    local side = M.SIDE[knob]
+    -- One thread: the cost of a sample, without tile scheduling or the
+    -- other core's load in it.
+    local base = {width = side, height = side, samples = 1, cone_samples = 1,
+                  light_samples = 1, threads = 1, progress = false}
+    -- CPU seconds of this process around the render (one tracing thread, so
+    -- the render's own work) and the trace's wall seconds. The gate is on
+    -- CPU time: with 4 people on 2 cores, wall ratios of the same pair
+    -- ranged from 10 to 20 while the work did not change.
+    local cpu, wall, ratios, wall_ratios, rays = {[M.LOW] = {}, [M.HIGH] = {}},
+      {[M.LOW] = {}, [M.HIGH] = {}}, {}, {}, {}
+    for i = 1, runs do
+      for _, level in ipairs{M.LOW, M.HIGH} do
+        local o = {}
+        for k, v in pairs(base) do o[k] = v end
+        o[knob] = level
+        local c0 = os.clock()
+        local _, st = scene:render(o)
+        cpu[level][i] = os.clock() - c0
+        wall[level][i] = st.trace_seconds
+        rays[level] = st.rays
+      end
+      ratios[i] = cpu[M.HIGH][i] / cpu[M.LOW][i]
+      wall_ratios[i] = wall[M.HIGH][i] / wall[M.LOW][i]
+      say("  %-13s run %d: %d -> %.3f s, %d -> %.3f s CPU, ratio %.2f (wall %.2f)", knob,
+          i, M.LOW, cpu[M.LOW][i], M.HIGH, cpu[M.HIGH][i], ratios[i], wall_ratios[i])
+    end
+    local function median(list)
+      table.sort(list)
+      return list[(#list + 1) // 2]
+    end
+    local ratio = median(ratios)
+    -- The rays of the knob's own kind must grow 16x exactly or the timing
+    -- measures something else.
+    local kind = ({samples = "camera", cone_samples = "glossy",
+                   light_samples = "light"})[knob]
+    rows[#rows + 1] = {knob = knob, side = side, low = median(cpu[M.LOW]),
+                       high = median(cpu[M.HIGH]), ratio = ratio,
+                       wall_ratio = median(wall_ratios),
+                       kind = kind, rays_low = rays[M.LOW][kind] or 0,
+                       rays_high = rays[M.HIGH][kind] or 0}
+  end
+
+  local lines = {"## Cost linear in each knob (T5)\n\n",
+    ("CPU seconds of one-thread renders (median of %d run%s) of the scene in\n"):format(
+      runs, runs == 1 and "" or "s"),
+    "`tools/bench/knobs.lua` (glossy floor, diffuse shapes, one emissive quad as the\n",
+    "only light), each knob at 16 and 256 with the other two at 1. The ratio is the\n",
+    "median of the runs' ratios; the wall-clock trace ratio beside it swings with\n",
+    "the machine's load. Target: the ratio in [14.4, 17.6], 16x within 10 %.\n",
+    "With time = a + b x level (a: the camera ray and shading every pixel costs\n",
+    "anyway) the ratio is (a + 256b) / (a + 16b); the last column is a's share of\n",
+    "the time at 16, from the two medians (negative: noise).\n\n",
+    "| knob | image | rays of its kind, 16 -> 256 | CPU at 16 (s) |",
+    " CPU at 256 (s) | ratio (wall) | target | fixed share at 16 |\n",
+    "| --- | --- | --- | --- | --- | --- | --- | --- |\n"}
+  for _, r in ipairs(rows) do
+    local ok = r.ratio >= M.BAND[1] and r.ratio <= M.BAND[2]
+    local b = (r.high - r.low) / (M.HIGH - M.LOW)
+    local fixed = (r.low - M.LOW * b) / r.low
+    lines[#lines + 1] = ("| %s | %dx%d | %s %d -> %d (%.2fx) | %.3f | %.3f | %.2f (%.2f) " ..
+                         "| %s | %.0f %% |\n")
+      :format(r.knob, r.side, r.side, r.kind, r.rays_low, r.rays_high,
+      r.rays_low > 0 and r.rays_high / r.rays_low or 0, r.low, r.high, r.ratio, r.wall_ratio,
+      r.rays_low == 0 and "no " .. r.kind .. " rays: knob inactive" or
+      ok and "PASS" or "MISS", 100 * fixed)
+  end
+  return table.concat(lines) .. "\n"
+end
+
+return M
