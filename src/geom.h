@@ -18,6 +18,8 @@ typedef struct {
     double   bary[3];  /* triangles: barycentric coordinates of p */
     int      material;
     uint32_t shape;    /* the primitive's id (scene.h: PRIM_ID) */
+    uint32_t instance; /* 0, or 1 + the index of the moved mesh hit: its
+                       ** placements share their triangles' ids */
 } lc_hit;
 
 /* Per-ray constants of the watertight triangle test. */

@@ -413,6 +413,7 @@ done:
     if (best == 0)
         return 0;
     to_world(mp, mb, best_k, h);
+    h->instance = i + 1;
     return best;
 }
 

@@ -70,6 +70,7 @@ static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, doub
         return instance_hit(s, i, q->r, tmax, full, inner);
     }
     full->shape = id;
+    full->instance = 0;
     return full->t;
 }
 
@@ -96,6 +97,7 @@ static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t,
         return 1;                        /* already complete */
     }
     h->shape = id;
+    h->instance = 0;
     return ok;
 }
 

@@ -205,8 +205,8 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, unsigned 
 typedef struct {
     uint32_t index, count;
     int      depth;
-    uint32_t from;         /* the primitive the first ray left ... */
-    int      watch;        /* ... which it cannot meet again */
+    uint32_t from, from_instance;  /* the primitive the first ray left ... */
+    int      watch;                /* ... which it cannot meet again */
 } path;
 
 /* An orthonormal frame around unit a, without a singular direction (Duff et
@@ -442,7 +442,7 @@ static radiance glossy_split(tracer *t, const lc_hit *h, const lc_material *m, l
         lc_ray r = {spawn_origin(h, d), d};
         t->rays[LC_RAY_GLOSSY]++;
         int sub = rec >= 0 ? log_ray(t, rec, LC_RAY_GLOSSY, &r) : -1;
-        path next = {idx, count, pa->depth + 1, h->shape, cannot_return(h, d)};
+        path next = {idx, count, pa->depth + 1, h->shape, h->instance, cannot_return(h, d)};
         acc = r_add(acc, trace_path(t, &r, next, 1, r_scale(w, c / total), sub));
     }
     return acc;
@@ -450,7 +450,7 @@ static radiance glossy_split(tracer *t, const lc_hit *h, const lc_material *m, l
 
 radiance trace_ray(tracer *t, const lc_ray *r0, uint32_t index, uint32_t count)
 {
-    path pa = {index, count, 0, 0, 0};
+    path pa = {index, count, 0, 0, 0, 0};
     radiance one = {1, 1, 1};
     int rec = t->log ? log_ray(t, -1, LC_RAY_CAMERA, r0) : -1;
     return trace_path(t, r0, pa, 0, one, rec);
@@ -466,7 +466,7 @@ static radiance trace_path(tracer *t, const lc_ray *r0, path pa, int split, radi
 {
     lc_ray r = *r0;
     radiance acc = {0, 0, 0};
-    uint32_t from = pa.from;
+    uint32_t from = pa.from, from_instance = pa.from_instance;
     int watch = pa.watch;      /* the last spawn cannot return to `from` */
     int first = rec;
     for (;;) {
@@ -481,7 +481,7 @@ static radiance trace_path(tracer *t, const lc_ray *r0, path pa, int split, radi
             acc = r_add(acc, r_mul(w, rad(t->scene->settings.background)));
             break;
         }
-        if (watch && h.shape == from)
+        if (watch && h.shape == from && h.instance == from_instance)
             t->self_hits++;
         const lc_material *m = &t->scene->materials[h.material];
         unsigned plan = t->plan[h.material];
@@ -540,6 +540,7 @@ static radiance trace_path(tracer *t, const lc_ray *r0, path pa, int split, radi
         r.d = v3_norm(rd);
         t->rays[kind]++;
         from = h.shape;
+        from_instance = h.instance;
         watch = cannot_return(&h, rd);
         w = next;
         pa.depth++;

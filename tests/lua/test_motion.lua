@@ -268,3 +268,19 @@ T.test("keyframes: exact at the keys, eased between, held outside", function()
   T.check_error(function() lancer.keyframes{{0, 1}, {1, 2, "bounce"}} end, HERE,
                 "unknown easing 'bounce'")
 end)
+
+T.test("two placements of one open mesh facing each other: mirror rays between them are no self-hits", function()
+  -- The same face of two placements shares its triangle id; a hit tells
+  -- them apart by the placement, so the self-hit counter stays 0.
+  local square = lancer.mesh{vertices = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}},
+                             faces = {{1, 2, 3}, {1, 3, 4}},
+                             material = lancer.material{kd = 0.2, kr = 0.8}}
+  local s = lancer.scene{camera = lancer.camera{from = {0, 0, -0.5}, at = {0.2, 0.1, 1}, fov = 60},
+                         background = 0.5, max_depth = 6}
+  s:add(square:moved(lancer.translate(0, 0, 1)))
+  s:add(square:moved(lancer.translate(0, 0, -1) * lancer.rotate("y", 180)))
+  local img, st = s:render{width = 16, height = 12, cutoff = 0}
+  assert(st.rays.reflection > 16 * 12, "rays bounce between the two")
+  T.eq(st.self_hits, 0, "self-hits")
+  T.eq(T.bad_pixels(img), 0, "NaN or infinite channels")
+end)
