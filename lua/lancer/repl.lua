@@ -89,7 +89,8 @@ local function describe(obj)
   return "{" .. table.concat(parts, ", ") .. "}"
 end
 
--- ls(scene): the scene's objects, numbered, for scene:remove(scene:objects()[i]).
+-- ls(scene): the scene's objects, one per line, each with its id (#3) for
+-- scene:remove(3).
 function M.ls(scene)
   local name = tostring(scene)
   if not name:match("^lancer%.Scene") then
@@ -97,12 +98,8 @@ function M.ls(scene)
       scene == nil and "nil" or name), 2)
   end
   print(name)
-  if not scene.objects then
-    print("  (this build has no scene:objects() to list them)")
-    return
-  end
-  for i, obj in ipairs(scene:objects()) do
-    print(("%4d  %s"):format(i, describe(obj)))
+  for _, obj in ipairs(scene:objects()) do
+    print("  " .. describe(obj))
   end
 end
 
