@@ -70,6 +70,7 @@ typedef struct {
     int             next, done, cancel, running;
     adaptive       *adaptive;   /* NULL: every pixel takes `samples` */
     double          base, share;   /* progress: this pass's start and part of all */
+    int             random;     /* some dimension is sampled: pixels need their keys */
 } job;
 
 typedef struct {
@@ -133,7 +134,8 @@ static void render_tile(job *j, tracer *t, int tile)
             size_t pixel = (size_t)y * j->img->width + x;
             if (ad && !ad->active[pixel])
                 continue;
-            t->ps = pixel_sampler_init(o->sampler, o->seed, o->frame, pixel);
+            if (j->random)
+                t->ps = pixel_sampler_init(o->sampler, o->seed, o->frame, pixel);
             if (!ad) {
                 double sum[3] = {0, 0, 0};
                 for (uint32_t s = 0; s < n; s++) {
@@ -351,6 +353,8 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     camera_frame_init(&s->camera, o->width, o->height, &j.cam);
     j.tiles_x = (o->width + TILE - 1) / TILE;
     j.ntiles = j.tiles_x * ((o->height + TILE - 1) / TILE);
+    j.random = o->samples > 1 ||
+               (s->c.needs & (LC_NEED_AREA | LC_NEED_GLOSSY | LC_NEED_LENS)) != 0;
     int nt = o->threads;
     if (nt == 0) {
         long nc = sysconf(_SC_NPROCESSORS_ONLN);

@@ -6,7 +6,8 @@
 -- b2-1m, ...) run just those cases; FULL=1 also runs Tachyon on B2 1M and
 -- B3 4M (about 3 minutes and 8 GB for 1M spheres). The sections after the
 -- cases have keys too: robust, parity, knobs (T5: cost linear in camera,
--- cone and light samples, tools/bench/knobs.lua).
+-- cone and light samples, tools/bench/knobs.lua), adaptive (T7: adaptive
+-- sampling against uniform 256 spp, tools/bench/adaptive.lua).
 --
 -- For each case: write the POV-Ray and Tachyon files into out/bench/, then
 -- run lancer, POV-Ray and Tachyon in turn (interleaved, so a noisy spell
@@ -25,6 +26,7 @@ local report = module("report")
 local robust = module("robust")
 local parity = module("parity")
 local knobs = module("knobs")
+local adaptive = module("adaptive")
 
 local ROOT = run.output("cd " .. run.quote(here .. "/../..") .. " && pwd")
 local OUT = ROOT .. "/out/bench"
@@ -235,10 +237,11 @@ local machine = {
 for key in pairs(ONLY or {}) do
   local known = false
   for _, case in ipairs(CASES) do known = known or case.key == key end
-  known = known or key == "robust" or key == "parity" or key == "knobs"
+  known = known or key == "robust" or key == "parity" or key == "knobs" or
+          key == "adaptive"
   if not known then
     fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m "
-         .. "robust parity knobs)", key)
+         .. "robust parity knobs adaptive)", key)
   end
 end
 local results = {}
@@ -270,6 +273,10 @@ end
 if not ONLY or ONLY.knobs then
   say("cost linear in each knob (T5)")
   text = text .. "\n" .. knobs.section{say = say, quick = QUICK}
+end
+if not ONLY or ONLY.adaptive then
+  say("adaptive sampling (T7)")
+  text = text .. "\n" .. adaptive.section{say = say, quick = QUICK}
 end
 io.write(text)
 io.stdout:flush()                     -- before the last line on stderr
