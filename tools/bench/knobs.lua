@@ -7,7 +7,7 @@
 -- built here so that every knob has work to do: a glossy floor filling
 -- most of the frame (cone rays at every floor pixel), diffuse shapes it
 -- reflects, and one emissive quad above as the only light (light samples
--- at every diffuse hit). Levels alternate (16, 256, 16, 256, ...) so a
+-- at every diffuse hit; cut into 8 for the light_samples knob). Levels alternate (16, 256, 16, 256, ...) so a
 -- noisy spell on the shared machine hits both; the ratio is the median of
 -- the runs' ratios.
 local lancer = require "lancer"
@@ -17,13 +17,14 @@ local M = {}
 M.LOW, M.HIGH = 16, 256
 M.BAND = {14.4, 17.6}       -- 16x within 10 %
 M.KNOBS = {"samples", "cone_samples", "light_samples"}
--- Image sides: a camera sample costs several rays, a cone or light sample
--- one, so those get 2-4x the pixels; at 16 each render then takes 0.1-0.3 s
+-- Image sides: a camera sample costs several rays, a cone sample one, so
+-- it gets 2x the pixels (light samples, 8 emitters' worth, need none); at 16
+-- each render then takes 0.1-0.3 s
 -- on one thread, long enough for the clock, short enough for make bench.
 -- Smaller images in quick mode measured ratios off by 20 % (0.04 s renders).
-M.SIDE = {samples = 128, cone_samples = 192, light_samples = 256}
+M.SIDE = {samples = 128, cone_samples = 192, light_samples = 128}
 
-function M.scene()
+function M.scene(knob)
   local s = lancer.scene{
     camera = lancer.camera{from = {0, 2.2, -5}, at = {0, 0.3, 0}, fov = 60},
     background = {0.05, 0.05, 0.08}, max_depth = 2}
@@ -35,9 +36,20 @@ function M.scene()
   s:add(lancer.box{min = {0.4, 0, -0.3}, max = {1.4, 1, 0.7},
                    material = lancer.material{color = {0.2, 0.4, 0.85}}})
   s:add(lancer.sphere{center = {1.6, 0.35, -1.2}, radius = 0.35})
-  -- The only light: a 2x2 emitter 3 above the floor, sampled as an area light.
-  s:add(lancer.quad{corner = {-1, 3, -1}, u = {2, 0, 0}, v = {0, 0, 2},
-                    material = lancer.material{kd = 0, emission = 6}})
+  -- The only light: a 2x2 emitter 3 above the floor, sampled as an area
+  -- light; for the light_samples knob cut into 8 pieces, so that light
+  -- samples (S per emitter per hit) outweigh the camera and cone rays every
+  -- pixel pays anyway: with one emitter that fixed part was 21 % of the
+  -- time at S = 16 and the ratio 12.9. (The other knobs keep one: more
+  -- light rays at every camera hit are fixed cost for them.)
+  local n = knob == "light_samples" and 4 or 1
+  for i = 0, n - 1 do
+    for k = 0, (n > 1 and 1 or 0) do
+      s:add(lancer.quad{corner = {-1 + 2 * i / n, 3, -1 + k}, u = {2 / n, 0, 0},
+                        v = {0, 0, n > 1 and 1 or 2},
+                        material = lancer.material{kd = 0, emission = 6}})
+    end
+  end
   return s
 end
 
@@ -46,9 +58,9 @@ end
 function M.section(ctx)
   local say = ctx.say
   local runs = ctx.runs or (ctx.quick and 1 or 3)
-  local scene = M.scene()
   local rows = {}
   for _, knob in ipairs(M.KNOBS) do
+    local scene = M.scene(knob)
     local side = M.SIDE[knob]
     -- One thread: the cost of a sample, without tile scheduling or the
     -- other core's load in it.
@@ -96,7 +108,7 @@ function M.section(ctx)
     ("CPU seconds of one-thread renders (median of %d run%s) of the scene in\n"):format(
       runs, runs == 1 and "" or "s"),
     "`tools/bench/knobs.lua` (glossy floor, diffuse shapes, one emissive quad as the\n",
-    "only light), each knob at 16 and 256 with the other two at 1. The ratio is the\n",
+    "only light, cut into 8 for light_samples), each knob at 16 and 256 with the other two at 1. The ratio is the\n",
     "median of the runs' ratios; the wall-clock trace ratio beside it swings with\n",
     "the machine's load. Target: the ratio in [14.4, 17.6], 16x within 10 %.\n",
     "With time = a + b x level (a: the camera ray and shading every pixel costs\n",
