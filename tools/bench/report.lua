@@ -207,7 +207,7 @@ All three renderers use %d threads; times are medians of %d lancer runs and %d p
 peer (a peer whose first run exceeds %d s runs once), interleaved.
 Wall and peak MB are the whole process (lc-runstat); build, trace and Lua scene are
 lancer's own stats. 1280x720.
-16 spp: lancer a jittered 4x4 grid, POV-Ray a regular 4x4 grid (+A0.0 +AM1 +R4 +J0),
+16 spp: lancer 16 Owen-scrambled Sobol' points per pixel, POV-Ray a regular 4x4 grid (+A0.0 +AM1 +R4 +J0),
 Tachyon the centre + 15 jittered samples.
 ]]
 local IMAGES = [[
