@@ -82,4 +82,39 @@ function T.slurp(path)
   return s
 end
 
+-- ---- shell and files, for the tests that run the lancer command ----------
+
+-- Quotes s for the shell.
+function T.quote(s) return "'" .. s:gsub("'", [['\'']]) .. "'" end
+
+-- A fresh empty directory (mktemp -d).
+function T.temp_dir()
+  local p = assert(io.popen("mktemp -d"))
+  local dir = p:read("l")
+  p:close()
+  assert(dir and dir ~= "", "mktemp -d failed")
+  return dir
+end
+
+function T.write(path, text)
+  local f = assert(io.open(path, "w"))
+  f:write(text)
+  f:close()
+end
+
+-- Fails (naming the caller's line) unless a command exited with `want`.
+function T.check_exit(code, want, out, err)
+  if code ~= want then
+    error(("exit %s, expected %s\nstdout: %s\nstderr: %s"):format(
+      code, want, out, err), 2)
+  end
+end
+
+-- Fails unless s contains part, literally.
+function T.has(s, part, what)
+  if not s:find(part, 1, true) then
+    error(("%s: %q not in:\n%s"):format(what or "output", part, s), 2)
+  end
+end
+
 return T

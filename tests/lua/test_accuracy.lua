@@ -2,21 +2,9 @@
 local T = require "harness"
 local lancer = require "lancer"
 
-local function q(s) return "'" .. s:gsub("'", [['\'']]) .. "'" end
-
-local function temp_dir()
-  local p = assert(io.popen("mktemp -d"))
-  local dir = p:read("l")
-  p:close()
-  assert(dir and dir ~= "", "mktemp -d failed")
-  return dir
-end
-
-local function write(path, text)
-  local f = assert(io.open(path, "w"))
-  f:write(text)
-  f:close()
-end
+local q = T.quote
+local temp_dir = T.temp_dir
+local write = T.write
 
 -- Rows of a CSV file as tables keyed by the header's names, and the header.
 local function read_csv(path)

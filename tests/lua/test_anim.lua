@@ -4,36 +4,16 @@ local T = require "harness"
 local lancer = require "lancer"
 local anim = require "lancer.anim"
 
-local function q(s) return "'" .. s:gsub("'", [['\'']]) .. "'" end
+local q = T.quote
 local L = q(T.lancer)
 
-local function temp_dir()
-  local p = assert(io.popen("mktemp -d"))
-  local dir = p:read("l")
-  p:close()
-  assert(dir and dir ~= "", "mktemp -d failed")
-  return dir
-end
+local temp_dir = T.temp_dir
 
 local function rm(dir) os.execute("rm -rf " .. q(dir)) end
 
-local function write(path, text)
-  local f = assert(io.open(path, "w"))
-  f:write(text)
-  f:close()
-end
-
-local function check_exit(code, want, out, err)
-  if code ~= want then
-    error(("exit %s, expected %s\nstdout: %s\nstderr: %s"):format(code, want, out, err), 2)
-  end
-end
-
-local function has(s, part, what)
-  if not s:find(part, 1, true) then
-    error(("%s: %q not in:\n%s"):format(what or "output", part, s), 2)
-  end
-end
+local write = T.write
+local check_exit = T.check_exit
+local has = T.has
 
 local function lines(s)
   local t = {}

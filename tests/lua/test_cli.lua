@@ -1,39 +1,13 @@
 -- test_cli.lua: the lancer command: options, arg, exit codes, the REPL.
 local T = require "harness"
 
-local function q(s)                     -- quotes s for the shell
-  return "'" .. s:gsub("'", [['\'']]) .. "'"
-end
-
+local q, temp_dir, check_exit, has = T.quote, T.temp_dir, T.check_exit, T.has
 local lancer = q(T.lancer)
 
 local function write_temp(text)
   local path = os.tmpname()
-  local f = assert(io.open(path, "w"))
-  f:write(text)
-  f:close()
+  T.write(path, text)
   return path
-end
-
-local function temp_dir()
-  local p = assert(io.popen("mktemp -d"))
-  local dir = p:read("l")
-  p:close()
-  assert(dir and dir ~= "", "mktemp -d failed")
-  return dir
-end
-
-local function check_exit(code, want, out, err)
-  if code ~= want then
-    error(("exit %s, expected %s\nstdout: %s\nstderr: %s"):format(
-      code, want, out, err), 2)
-  end
-end
-
-local function has(s, part, what)
-  if not s:find(part, 1, true) then
-    error(("%s: %q not in:\n%s"):format(what or "output", part, s), 2)
-  end
 end
 
 T.test("--help prints usage, examples first, to stdout", function()

@@ -4,16 +4,10 @@
 -- it), so its absence is a failure, not a skip.
 local T = require "harness"
 
-local function q(s) return "'" .. s:gsub("'", [['\'']]) .. "'" end
+local q = T.quote
 local L = q(T.lancer)
 
-local function temp_dir()
-  local p = assert(io.popen("mktemp -d"))
-  local dir = p:read("l")
-  p:close()
-  assert(dir and dir ~= "", "mktemp -d failed")
-  return dir
-end
+local temp_dir = T.temp_dir
 
 -- 12 frames, jittered samples, math.random in the frame function, and a
 -- frame that fails when FAIL names it.

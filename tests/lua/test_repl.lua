@@ -5,21 +5,9 @@ local T = require "harness"
 local lancer = require "lancer"
 local preview = require "lancer.preview"
 
-local function q(s) return "'" .. s:gsub("'", [['\'']]) .. "'" end
-
-local function temp_dir()
-  local p = assert(io.popen("mktemp -d"))
-  local dir = p:read("l")
-  p:close()
-  assert(dir and dir ~= "", "mktemp -d failed")
-  return dir
-end
-
-local function has(s, part, what)
-  if not s:find(part, 1, true) then
-    error(("%s: %q not in:\n%s"):format(what or "output", part, s), 2)
-  end
-end
+local q = T.quote
+local temp_dir = T.temp_dir
+local has = T.has
 
 local function absolute(path)
   local p = assert(io.popen("readlink -f " .. q(path)))
