@@ -298,11 +298,11 @@ local function plot(r, path, title)
   return require("lancer.plot").loglog{
     path = path, title = title, xlabel = "trace seconds (median of seeds)",
     ylabel = "RMSE (mean of seeds)", points = points,
-    series = "RMSE (labels: " .. r.knob .. ")",
+    series = r.knob,
     -- RMSE against time: -1/2 is plain Monte Carlo (independent samples, cost
     -- linear in the knob); -1 what stratification reaches on smooth integrands.
-    slopes = {{-0.5, "slope -1/2 (independent samples)"},
-              {-1, "slope -1 (stratified, smooth)"}}}
+    slopes = {{-0.5, "slope -1/2 (independent)"},
+              {-1, "slope -1 (stratified)"}}}
 end
 
 -- ---- The diverted render ------------------------------------------------------

@@ -263,11 +263,20 @@ function M.draw(spec)
   for _, e in ipairs(entries) do lw = math.max(lw, M.text_width(e[1])) end
   local bw, bh = lw + 52, #entries * (M.TEXT_HEIGHT + 6) + 10
   -- The legend goes in the corner of the frame that hides the least of the
-  -- plot (grid lines do not count), on a white box.
+  -- plot (grid lines do not count), on a white box; a measured point or its
+  -- label counts as much as a whole line.
   local best, lx, ly = math.huge, nil, nil
   for _, corner in ipairs{{px1 - 6 - bw, py0 + 6}, {px0 + 6, py1 - 6 - bh},
                           {px0 + 6, py0 + 6}, {px1 - 6 - bw, py1 - 6 - bh}} do
     local hidden = 0
+    for _, pt in ipairs(pts) do
+      local x, y = frame.map(pt.x, pt.y)
+      local x1 = x + 8 + (pt.label and M.text_width(pt.label) or 0)
+      if x1 >= corner[1] and x - 4 <= corner[1] + bw and y + 4 >= corner[2] and
+         y - 8 - M.TEXT_HEIGHT <= corner[2] + bh then
+        hidden = hidden + 1e6
+      end
+    end
     for y = corner[2], corner[2] + bh, 2 do
       for x = corner[1], corner[1] + bw, 2 do
         local r, g, b = cv.img:pixel(math.floor(x) + 1, math.floor(y) + 1)
