@@ -1,4 +1,7 @@
-/* shade.c: the seed's shading model (Phong with recursive mirrors) at a hit. */
+/* shade.c: the seed's shading model (Phong with recursive mirrors) at a hit.
+** The light loops (point lights, emitters, area lights) live here with the
+** path loop they serve: moved to a file of their own they no longer inline
+** into it, and B1 took 2.2 % more instructions (callgrind, 320x180). */
 #include <stdlib.h>
 #include <string.h>
 #include "shade.h"
