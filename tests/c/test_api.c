@@ -130,18 +130,20 @@ static void interrupt_cancels_running_renders_only(void **state)
     lc_render_options o = lc_render_options_default();
     o.width = 1024;
     o.height = 1024;
+    o.samples = 16;         /* over a second: progress polls every 100 ms */
     o.progress = signal_once;
     o.progress_ud = &calls;
     lc_stats st;
     assert_null(lc_scene_render(s, &o, &st, &err));
     assert_int_equal(err.code, LC_ECANCEL);
     assert_string_equal(err.msg, "render cancelled");
-    /* Fewer camera rays than pixels: it stopped early. */
-    assert_true(st.rays[LC_RAY_CAMERA] < (uint64_t)o.width * o.height);
+    /* Fewer camera rays than samples: it stopped early. */
+    assert_true(st.rays[LC_RAY_CAMERA] < (uint64_t)o.width * o.height * o.samples);
 
     /* An interrupt before a render starts does not cancel it. */
     lc_interrupt();
     o.width = o.height = 64;
+    o.samples = 1;
     o.progress = NULL;
     lc_image *img = lc_scene_render(s, &o, &st, &err);
     assert_non_null(img);
