@@ -52,37 +52,54 @@ static inline uint32_t reverse_bits(uint32_t x)
     return x;
 }
 
-/* A hash in which each bit depends only on the bits below it: applied to
-** reversed bits it is an Owen scramble (psychopath.io's improved
-** Laine-Karras permutation, 2021). */
-static inline uint32_t owen_scramble(uint32_t x, uint32_t seed)
+/* A hash in which each bit depends only on the bits below it
+** (psychopath.io's improved Laine-Karras permutation, 2021): applied to
+** reversed bits it is an Owen scramble, a nested uniform scramble of the
+** bits from the top. */
+static inline uint32_t lk_hash(uint32_t x, uint32_t seed)
 {
-    x = reverse_bits(x);
     x ^= x * 0x3d20adeau;
     x += seed;
     x *= (seed >> 16) | 1;
     x ^= x * 0x05526c56u;
     x ^= x * 0x53a22864u;
-    return reverse_bits(x);
+    return x;
 }
 
-static inline uint32_t sobol1(uint32_t i)    /* second dimension: x^1 + 1 */
+static inline uint32_t owen_scramble(uint32_t x, uint32_t seed)
 {
-    uint32_t r = 0;
-    for (uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1)
-        if (i & 1)
-            r ^= v;
-    return r;
+    return reverse_bits(lk_hash(reverse_bits(x), seed));
 }
+
+/* The second Sobol' dimension (polynomial x + 1) in reversed bit order:
+** its direction numbers are the rows of Pascal's triangle mod 2, so bit m
+** of the reversed point is the parity of the index bits k whose positions
+** contain m (Lucas: C(k, m) is odd iff m's bits are a subset of k's). That
+** superset parity takes five shift-and-xor steps instead of a loop over 32
+** bits, which the shuffled (full-width) indices would always run. */
+static inline uint32_t sobol1_reversed(uint32_t i)
+{
+    i ^= (i >> 1) & 0x55555555u;
+    i ^= (i >> 2) & 0x33333333u;
+    i ^= (i >> 4) & 0x0f0f0f0fu;
+    i ^= (i >> 8) & 0x00ff00ffu;
+    i ^= (i >> 16) & 0x0000ffffu;
+    return i;
+}
+
+static inline uint32_t sobol1(uint32_t i) { return reverse_bits(sobol1_reversed(i)); }
 
 #define U32_TO_01 (1.0 / 4294967296.0)       /* [0, 1): never 1 */
 
+/* The first Sobol' dimension is the index with its bits reversed, so each
+** scrambled coordinate is reverse(hash(reverse(reverse(...)))): the inner
+** reversals cancel, four are left of the eight written out. */
 static inline void sobol_2d(uint32_t index, uint64_t key, double out[2])
 {
     uint32_t seed = (uint32_t)key, s1 = (uint32_t)(key >> 32);
     index = owen_scramble(index, seed);
-    out[0] = owen_scramble(reverse_bits(index), s1) * U32_TO_01;
-    out[1] = owen_scramble(sobol1(index), s1 ^ 0x9e3779b9u) * U32_TO_01;
+    out[0] = reverse_bits(lk_hash(index, s1)) * U32_TO_01;
+    out[1] = reverse_bits(lk_hash(sobol1_reversed(index), s1 ^ 0x9e3779b9u)) * U32_TO_01;
 }
 
 /* ---- Jittered grid: a k x k grid (k = ceil(sqrt(count))) with one point

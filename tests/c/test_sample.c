@@ -144,6 +144,22 @@ static void dimensions_do_not_correlate(void **state)
     }
 }
 
+/* sobol1 equals the textbook loop over the index bits with direction
+** numbers v_k = v_(k-1) ^ (v_(k-1) >> 1), v_0 = 2^31. */
+static void sobol1_matches_direction_numbers(void **state)
+{
+    (void)state;
+    uint64_t x = 1;
+    for (int n = 0; n < 200000; n++) {
+        uint32_t i = n < 70000 ? (uint32_t)n : (uint32_t)(x = rng_mix(x));
+        uint32_t r = 0, k = i;
+        for (uint32_t v = 1u << 31; k; k >>= 1, v ^= v >> 1)
+            if (k & 1)
+                r ^= v;
+        assert_int_equal(sobol1(i), r);
+    }
+}
+
 /* The nested count saturates instead of wrapping. */
 static void nested_counts_saturate(void **state)
 {
@@ -162,6 +178,7 @@ int main(void)
         cmocka_unit_test(points_depend_on_every_key),
         cmocka_unit_test(dimensions_do_not_correlate),
         cmocka_unit_test(nested_counts_saturate),
+        cmocka_unit_test(sobol1_matches_direction_numbers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
