@@ -161,7 +161,8 @@ int       lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t
                                   int material, lc_error *err);
 int       lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err);
 /* A copy scaled by `scale` about the origin and moved by `offset`, point-light
-** intensities times scale^2: an exact renderer draws the same picture. */
+** intensities times scale^2, the camera's aperture and focus times scale: an
+** exact renderer draws the same picture. */
 lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 offset,
                                lc_error *err);
 size_t    lc_scene_shape_count(const lc_scene *s);     /* shapes and meshes */

@@ -302,6 +302,8 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
         lc_camera cam = s->camera;
         cam.from = move(cam.from, scale, t);
         cam.at = move(cam.at, scale, t);
+        cam.aperture *= scale;      /* lengths, like the scene's */
+        cam.focus *= scale;
         if (lc_scene_set_camera(c, &cam, err))
             goto fail;
     }

@@ -578,6 +578,27 @@ T.test("lens: the plane in focus is as sharp as through a pinhole; blur = A|z-F|
   end
 end)
 
+T.test("H1/H2 with a lens, glossy cones and area lights: scaled and moved, the same picture", function()
+  -- The sampled effects keep scale and translation invariance: their
+  -- random numbers do not depend on where the scene is, and the lens's
+  -- aperture and focus scale with it (a test that caught them left out).
+  local s = penumbra_scene("quad")
+  s:add(lancer.sphere{center = {1.2, 0.5, 0}, radius = 0.5,
+                      material = lancer.material{kd = 0.3, kr = 0.7, glossiness = 6,
+                                                 cone_samples = 4}})
+  s.camera = lancer.camera{from = {0, 3, -3}, at = {0, 0, 0.3}, fov = 60, aperture = 0.3,
+                           focus = 3.2}
+  local o = {width = 32, height = 24, samples = 4, light_samples = 4}
+  local ref = s:render(o)
+  for _, v in ipairs{{1e-3}, {1e3}, {1, {1e6, 5e5, 3e5}}} do
+    local img = s:transformed(v[1], v[2]):render(o)
+    local d = img:diff(ref, 1 / 255)
+    assert(d.within >= 0.999, ("scale %g, offset %s: %.3f %% within 1/255 (worst %g)")
+      :format(v[1], v[2] and "1e6" or "0", 100 * d.within, d.max))
+    no_bad_pixels(img)
+  end
+end)
+
 -- ---- adaptive sampling: T7 ---------------------------------------------------
 
 T.test("T7 adaptive: the RMSE of 256 spp with at most half the camera rays, no bias", function()
