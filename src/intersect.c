@@ -214,8 +214,8 @@ done:
 }
 
 /* Any hit: the first primitive found in (0, tmax) ends the search. */
-static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint64_t *np,
-                    uint64_t *nn)
+static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint32_t skip,
+                    uint64_t *np, uint64_t *nn)
 {
     query q;
     query_init(&q, r, s->c.nflat > 0);
@@ -240,6 +240,8 @@ static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint64_t *n
         if (nd->count) {
             for (uint32_t k = 0; k < nd->count; k++) {
                 uint32_t id = b->refs[nd->start + k];
+                if (id == skip)
+                    continue;
                 ++*np;
                 if (PRIM_KIND(id) == PRIM_INSTANCE) {
                     int hit = instance_occluded(s, PRIM_INDEX(id), r, tmax, &inner);
@@ -272,8 +274,14 @@ static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint64_t *n
 
 int scene_occluded_n(const lc_scene *s, const lc_ray *r, double tmax, lc_counts *counts)
 {
+    return scene_occluded_skip(s, r, tmax, SCENE_SKIP_NONE, counts);
+}
+
+int scene_occluded_skip(const lc_scene *s, const lc_ray *r, double tmax, uint32_t skip,
+                        lc_counts *counts)
+{
     uint64_t np = 0, nn = 0;
-    int hit = occluded(s, r, tmax, &np, &nn);
+    int hit = occluded(s, r, tmax, skip, &np, &nn);
     if (counts) {
         counts->prims += np;
         counts->nodes += nn;

@@ -155,6 +155,12 @@ int scene_closest_n(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h,
                     lc_counts *counts);
 /* 1 if anything lies on the ray with 0 < t < tmax. counts may be NULL. */
 int scene_occluded_n(const lc_scene *s, const lc_ray *r, double tmax, lc_counts *counts);
+/* The same, but primitive `skip` (a PRIM_ID, never a plane) is not there:
+** a shadow ray toward a point sampled on an emitter cannot be blocked by
+** that emitter, whatever the rounding of its own surface. */
+int scene_occluded_skip(const lc_scene *s, const lc_ray *r, double tmax, uint32_t skip,
+                        lc_counts *counts);
+#define SCENE_SKIP_NONE 0xffffffffu     /* kind 7: no primitive has this id */
 #define scene_closest(s, r, tmax, h) scene_closest_n((s), (r), (tmax), (h), NULL)
 #define scene_occluded(s, r, tmax)   scene_occluded_n((s), (r), (tmax), NULL)
 

@@ -234,8 +234,9 @@ static lc_vec3 cone_direction(lc_vec3 a, double omc, const double u[2])
     return v3_norm(v3_madd(v3_madd(v3_mul(a, c), b1, sn * cos(phi)), b2, sn * sin(phi)));
 }
 
-/* Traces the shadow ray of an area-light sample toward emitter e along l for
-** at most tmax; 1 if the light is seen. Logs it while explaining. */
+/* Traces the shadow ray of an area-light sample toward emitter e along l,
+** up to its sampled point (tmax); 1 if nothing else is in the way. Logs it
+** while explaining. */
 static int light_visible(tracer *t, const lc_hit *h, const emitter *e, int which,
                          lc_vec3 l, double tmax, int *rec)
 {
@@ -251,10 +252,11 @@ static int light_visible(tracer *t, const lc_hit *h, const emitter *e, int which
             t->log->r[*rec].distance = tmax;
         }
     }
-    lc_hit blk;
-    /* The emitter itself may be met first (a grazing ray's sphere root is
-    ** only good to sqrt(ulp)): only another shape casts a shadow. */
-    if (scene_closest_n(t->scene, &sr, tmax, &blk, &t->counts) && blk.shape != e->shape)
+    /* Any other shape in the way blocks it: an any-hit query, which skips
+    ** the emitter itself (its own surface, rounded, must not shadow the
+    ** point sampled on it: at 1e7 from the origin the rounding is as large
+    ** as any relative shortening, H2). */
+    if (scene_occluded_skip(t->scene, &sr, tmax, e->shape, &t->counts))
         return 0;
     if (*rec >= 0)
         t->log->r[*rec].hit = 1;
@@ -317,9 +319,9 @@ static void area_lights(tracer *t, const lc_hit *h, const lc_material *m, unsign
         if (e->shape == h->shape)
             continue;
         double omc = 0, solid = 0, dc = 0;
-        lc_vec3 axis = {0, 0, 0};
+        lc_vec3 axis = {0, 0, 0}, tc = {0, 0, 0};
         if (e->kind == LC_SPHERE) {
-            lc_vec3 tc = v3_sub(e->target, h->p);
+            tc = v3_sub(e->target, h->p);
             double d2 = v3_dot(tc, tc), r2 = e->radius * e->radius;
             if (!(d2 > r2))                 /* on or inside the light */
                 continue;
@@ -344,7 +346,13 @@ static void area_lights(tracer *t, const lc_hit *h, const lc_material *m, unsign
             if (e->kind == LC_SPHERE) {
                 l = cone_direction(axis, omc, u);
                 k = solid / (PI * S);
-                dist = dc;                  /* past the near side, short of the far */
+                /* Up to the near side: the root from the closest approach
+                ** (no cancellation); a ray grazing the rim may miss it by
+                ** rounding, and then goes as far as the centre's distance. */
+                double b = v3_dot(l, tc);
+                lc_vec3 off = v3_madd(tc, l, -b);
+                double disc = e->radius * e->radius - v3_dot(off, off);
+                dist = disc > 0 ? (b - sqrt(disc)) * (1 - SHADOW_SHORTEN) : dc;
             } else {
                 lc_vec3 q, nl;
                 double area;
