@@ -43,7 +43,9 @@ EDIT_LIBS   := $(shell pkg-config --libs libedit 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
 
 # The C core: no Lua header in any of these.
-CORE_SRC := $(filter-out src/lua_%.c src/main.c src/shade_minimal.c,$(wildcard src/*.c))
+CORE_SRC := $(filter-out src/lua_%.c src/main.c src/main_%.c src/shade_minimal.c,$(wildcard src/*.c))
+# The lancer command: main.c, main_*.c.
+HOST_OBJ := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(wildcard src/main*.c))
 ifeq ($(MINIMAL),1)
 CORE_SRC := $(filter-out src/shade.c,$(CORE_SRC)) src/shade_minimal.c
 endif
@@ -82,14 +84,14 @@ $(BUILD)/gen/lua_embedded.c: $(LUA_FILES) tools/embed-lua.sh
 	@mkdir -p $(@D)
 	sh tools/embed-lua.sh $(LUA_FILES) > $@.tmp && mv $@.tmp $@
 
-$(BUILD)/obj/main.o: src/main.c
+$(HOST_OBJ): $(BUILD)/obj/%.o: src/%.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(LUA_CFLAGS) $(EDIT_CFLAGS) -c $< -o $@
 
 $(BUILD)/obj/lua_embedded.o: $(BUILD)/gen/lua_embedded.c
 	$(CC) $(CFLAGS) -c $< -o $@
 
-$(BIN): $(BUILD)/obj/main.o $(BUILD)/obj/lua_embedded.o $(LUA_OBJ) $(LIB)
+$(BIN): $(HOST_OBJ) $(BUILD)/obj/lua_embedded.o $(LUA_OBJ) $(LIB)
 	@mkdir -p $(@D)
 	$(CC) $(LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EDIT_LIBS) -lm -pthread
 

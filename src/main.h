@@ -1,0 +1,74 @@
+/* main.h: what the lancer command's files share: its command line, and
+** running Lua code with Ctrl-C armed. */
+#ifndef LC_MAIN_H
+#define LC_MAIN_H
+
+#include <signal.h>
+#include <lua.h>
+#include "lancer.h"
+
+#define LANCER_VERSION LC_VERSION
+#define ACCURACY_KNOBS 8                 /* --knob options one run takes */
+#define HISTORY_FILE   ".lancer_history" /* the REPL's, under $HOME */
+
+/* The animation options: lancer.animate reads them from lancer.overrides. */
+struct anim_opts {
+    const char **frames;    /* --frames and --frame lists, checked; nframes of them */
+    int nframes;
+    int shard_k, shard_n;   /* --shard K/N; shard_n 0: every frame */
+    int skip_existing;      /* --skip-existing */
+    int list_frames;        /* --list-frames: print the paths, render nothing */
+    const char *video;      /* --video PATH: assemble with ffmpeg */
+    const char *output;     /* -o PATTERN: replaces the script's output pattern */
+    const char *first;      /* the first of these given, to name in errors */
+};
+
+/* The parsed command line. Options stop at the script, as with lua5.4:
+** whatever follows the script belongs to the script. */
+struct cmdline {
+    int argc;
+    char **argv;
+    int script;             /* argv index of the script; 0: none */
+    int script_stdin;       /* the script is "-": read standard input */
+    int interactive;        /* -i */
+    const char **chunks;    /* -e strings, in order */
+    int nchunks;
+    lua_Integer width, height, samples;  /* --width...; 0: not given */
+    int check;              /* --check: is the scene numerically stable? */
+    int stats;              /* --stats: print each render's ledger */
+    int unstable;           /* --check found it was not: exit 3 */
+    struct anim_opts anim;  /* --frames, --shard, --video, ... */
+    int late_usage;         /* a usage error found once Lua ran (a frame option
+                            ** without an animation, a bad --knob): exit 2 */
+    int accuracy;           /* --accuracy: error against time over --knob levels */
+    const char *knobs[ACCURACY_KNOBS];  /* --knob NAME=L1,L2,... as given */
+    int nknobs;
+    lua_Integer seeds;      /* --seeds N; 0: not given */
+    const char *out;        /* --out DIR; NULL: not given */
+};
+
+/* What parsing the command line says to do next. */
+enum { PARSE_RUN, PARSE_DONE, PARSE_USAGE };
+
+/* main_args.c: the command line. */
+int         args_parse(struct cmdline *cl);          /* PARSE_*; usage errors printed */
+int         args_check_accuracy(const struct cmdline *cl);
+/* Prints "lancer: " fmt (with what) and a hint; returns PARSE_USAGE. */
+int         args_usage_error(const char *fmt, const char *what);
+/* Checks a --frames list; with L, appends {A, B, STEP} items to the table on
+** top of its stack. NULL, or why the list is wrong. */
+const char *args_frame_list(const char *s, lua_State *L);
+
+/* main.c: running Lua code, after lua.c. */
+extern const char *host_progname;        /* prefix of errors; NULL in the REPL */
+void host_set_sigint(void (*handler)(int), struct sigaction *old);
+void host_message(const char *msg);      /* to stderr, after host_progname */
+int  host_report(lua_State *L, int status);   /* prints the error on the stack */
+int  host_docall(lua_State *L, int narg, int nres);  /* pcall with Ctrl-C armed */
+/* Pushes require(module)[field] (the module stays under it). Unprotected. */
+void host_module_field(lua_State *L, const char *module, const char *field);
+
+/* main_repl.c: the interactive prompt. */
+void repl_run(lua_State *L);
+
+#endif

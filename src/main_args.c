@@ -1,0 +1,369 @@
+/* main_args.c: the lancer command's options, all checked before anything runs. */
+#include <limits.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <lauxlib.h>
+#include <lua.h>
+
+#include "main.h"
+
+static void print_usage(void)
+{
+    fputs(
+"usage: lancer [options] [script.lua [args...]]\n"
+"\n"
+"Examples:\n"
+"  lancer scene.lua              run scene.lua (it renders and saves its images)\n"
+"  lancer --width 320 --height 240 --samples 1 scene.lua\n"
+"                                the same, as a quick preview\n"
+"  lancer scene.lua a b          the script sees arg[1] == 'a', arg[2] == 'b'\n"
+"  lancer - < scene.lua          read the script from standard input\n"
+"  lancer -e 'print(require(\"lancer\").version)'\n"
+"  lancer -i scene.lua           run scene.lua, then the interactive prompt\n"
+"  lancer --check scene.lua      is the scene numerically stable?\n"
+"  lancer --video orbit.mp4 orbit.lua\n"
+"                                render an animation's frames, then an mp4\n"
+"  lancer --frames 1-24 --skip-existing orbit.lua\n"
+"                                frames 1 to 24 of it, those not yet written\n"
+"  lancer --accuracy --knob samples=1,4,16,64 scene.lua\n"
+"                                error against time over those levels\n"
+"  lancer                        the interactive prompt\n"
+"\n"
+"Options (before the script; arguments after it go to the script):\n"
+"  -e CODE       run the Lua string CODE (may be repeated)\n"
+"  -i            enter the interactive prompt after the script\n"
+"  -             read the script from standard input\n"
+"  --            stop handling options\n"
+"  --width W     render at width W, whatever the script asks (positive integer)\n"
+"  --height H    render at height H, likewise\n"
+"  --samples N   take N samples per pixel, likewise\n"
+"  --stats       print each render's ledger: rays by kind, tests, phases, effects\n"
+"  --check       render each image small at scales 1e-3, 1, 1e3 and moved 1e6\n"
+"                away; host_report differing pixels, NaN and self-hits (exit 3 if\n"
+"                the scene is numerically unstable)\n"
+"\n"
+"Animations (scripts calling lancer.animate{...}; frames are numbered from 1\n"
+"unless the script sets 'first'):\n"
+"  --frames LIST frames to render: 7, 1-48, 1-48:4 (every 4th), 1,5,9-12\n"
+"  --frame N     the same as --frames N\n"
+"  --shard K/N   of those, only frames whose number mod N is K (0 <= K < N)\n"
+"  --skip-existing\n"
+"                leave frames whose file exists (files appear whole, by rename)\n"
+"  --list-frames print the selected frames' paths, render nothing\n"
+"  -o PATTERN    write frames to PATTERN (out/f_%04d.png or out/f_####.png);\n"
+"                also --output PATTERN\n"
+"  --video FILE  then assemble every frame with ffmpeg (.mp4 .mkv .mov .webm .gif)\n"
+"  Each frame logs one line on stderr; a failed frame does not stop the others,\n"
+"  and the exit status is then 1.\n"
+"\n"
+"  --accuracy    render each image the script asks for at every level of each\n"
+"                --knob, against a reference 16x the largest; print error, time\n"
+"                and efficiency, write a CSV and a plot (see the README)\n"
+"  --knob NAME=L1,L2,...  with --accuracy: samples, cone_samples,\n"
+"                light_samples or max_depth (depth), increasing levels;\n"
+"                may be repeated\n"
+"  --seeds N     with --accuracy: renders per level, N >= 2 (default 4)\n"
+"  --out DIR     with --accuracy: where the CSV and PNG go (default out/accuracy)\n"
+"  --help        print this help and exit\n"
+"  --version     print the version and exit\n"
+"\n"
+"The script sees its arguments in 'arg' and '...', as with lua5.4.\n"
+"math.random starts from a fixed seed, so a script renders the same each run.\n"
+"The prompt prints the value of an expression, draws each render in the\n"
+"terminal and saves it to out/repl_NNN.png; its history is kept in\n"
+"~/" HISTORY_FILE ". Ctrl-C interrupts running code or a render, Ctrl-D quits.\n"
+"\n"
+"Exit status: 0 success, 1 script error, 2 usage error, 3 unstable (--check).\n", stdout);
+}
+
+int args_usage_error(const char *fmt, const char *what)
+{
+    fprintf(stderr, "lancer: ");
+    fprintf(stderr, fmt, what);
+    fprintf(stderr, "; try 'lancer --help'\n");
+    return PARSE_USAGE;
+}
+
+/* Reads a --width style value: digits only (no sign, no spaces), 1..INT_MAX.
+** The binding checks the real limits when it renders. */
+static int parse_positive(const char *s, lua_Integer *out)
+{
+    lua_Integer v = 0;
+    if (*s == '\0')
+        return 0;
+    for (; *s; s++) {
+        if (*s < '0' || *s > '9')
+            return 0;
+        v = v * 10 + (*s - '0');
+        if (v > INT_MAX)
+            return 0;
+    }
+    *out = v;
+    return v > 0;
+}
+
+/* Handles one "--width W" or "--width=W"; *i moves past the value. */
+static int parse_size(struct cmdline *cl, int *i, const char *name, lua_Integer *out)
+{
+    const char *a = cl->argv[*i];
+    size_t n = strlen(name);
+    const char *v;
+    if (a[n] == '=') {
+        v = a + n + 1;
+    } else {
+        if (cl->argv[*i + 1] == NULL)
+            return args_usage_error("option '%s' needs a value", name);
+        v = cl->argv[++*i];
+    }
+    if (!parse_positive(v, out)) {
+        fprintf(stderr, "lancer: option '%s' needs a positive integer, got '%s'; "
+                "try 'lancer --help'\n", name, v);
+        return PARSE_USAGE;
+    }
+    return PARSE_RUN;
+}
+
+static int is_opt(const char *arg, const char *name)
+{
+    size_t n = strlen(name);
+    return strncmp(arg, name, n) == 0 && (arg[n] == '\0' || arg[n] == '=');
+}
+
+/* ---- Animation options ----------------------------------------------------- */
+
+#define FRAME_MAX 1000000000L   /* frame numbers and steps, as lancer.animate allows */
+
+/* Reads a frame number at *s (digits only, at most FRAME_MAX); moves *s past it. */
+static int frame_number(const char **s, long *out)
+{
+    long v = 0;
+    if (**s < '0' || **s > '9')
+        return 0;
+    for (; **s >= '0' && **s <= '9'; ++*s) {
+        v = v * 10 + (**s - '0');
+        if (v > FRAME_MAX)
+            return 0;
+    }
+    *out = v;
+    return 1;
+}
+
+/* Reads a --frames list: items N, A-B or A-B:S separated by commas. With L,
+** appends each item as {A, B, S} to the table on top of L's stack. Returns
+** NULL, or why the list is wrong. */
+const char *args_frame_list(const char *s, lua_State *L)
+{
+    do {
+        long a, b, step = 1;
+        if (!frame_number(&s, &a))
+            return "frames are whole numbers from 0";
+        b = a;
+        if (*s == '-' && (s++, !frame_number(&s, &b)))
+            return "a range is A-B";
+        if (*s == ':' && (s++, !frame_number(&s, &step) || step < 1))
+            return "a step is a whole number from 1";
+        if (*s != ',' && *s != '\0')
+            return "items are N, A-B or A-B:STEP, separated by commas";
+        if (b < a)
+            return "a range A-B needs A <= B";
+        if (L) {
+            lua_createtable(L, 3, 0);
+            lua_pushinteger(L, a);
+            lua_rawseti(L, -2, 1);
+            lua_pushinteger(L, b);
+            lua_rawseti(L, -2, 2);
+            lua_pushinteger(L, step);
+            lua_rawseti(L, -2, 3);
+            lua_rawseti(L, -2, (lua_Integer)luaL_len(L, -2) + 1);
+        }
+    } while (*s++ == ',');
+    return NULL;
+}
+
+/* The value of "--name V" or "--name=V"; NULL when it is missing. */
+static const char *option_value(struct cmdline *cl, int *i, const char *name)
+{
+    const char *a = cl->argv[*i];
+    size_t n = strlen(name);
+    if (a[n] == '=')
+        return a + n + 1;
+    return cl->argv[*i + 1] ? cl->argv[++*i] : NULL;
+}
+
+static int bad_value(const char *name, const char *want, const char *got)
+{
+    fprintf(stderr, "lancer: option '%s' needs %s, got '%s'; try 'lancer --help'\n",
+            name, want, got);
+    return PARSE_USAGE;
+}
+
+/* Handles one animation option at argv[*i]: 1 and *st set when it was one. */
+static int parse_anim_option(struct cmdline *cl, int *i, int *st)
+{
+    static const char *const names[] = {"--frames", "--frame", "--shard",
+                                        "--skip-existing", "--list-frames", "--video",
+                                        "--output", "-o", NULL};
+    static const char *const video_ext[] = {".mp4", ".mkv", ".mov", ".webm", ".gif",
+                                            NULL};
+    struct anim_opts *an = &cl->anim;
+    const char *a = cl->argv[*i], *name = NULL, *v = NULL, *why;
+    int k;
+    for (k = 0; names[k] && !name; k++)
+        if (is_opt(a, names[k]))
+            name = names[k];
+    if (!name)
+        return 0;
+    *st = PARSE_RUN;
+    if (!an->first)
+        an->first = name;
+    if (strcmp(name, "--skip-existing") == 0 || strcmp(name, "--list-frames") == 0) {
+        if (a[strlen(name)] == '=') {
+            *st = args_usage_error("option '%s' takes no value", name);
+            return 1;
+        }
+        *(name[2] == 's' ? &an->skip_existing : &an->list_frames) = 1;
+        return 1;
+    }
+    if ((v = option_value(cl, i, name)) == NULL) {
+        *st = args_usage_error("option '%s' needs a value", name);
+        return 1;
+    }
+    if (strcmp(name, "--frames") == 0 || strcmp(name, "--frame") == 0) {
+        if ((why = args_frame_list(v, NULL)) != NULL) {
+            fprintf(stderr, "lancer: option '%s' needs frames like 7, 1-48, 1-48:2 or "
+                    "1,5,9-12, got '%s' (%s); try 'lancer --help'\n", name, v, why);
+            *st = PARSE_USAGE;
+        } else if (strcmp(name, "--frame") == 0 && strpbrk(v, ",-:")) {
+            *st = bad_value(name, "one frame number (--frames takes lists)", v);
+        } else {
+            an->frames[an->nframes++] = v;
+        }
+    } else if (strcmp(name, "--shard") == 0) {
+        long sk = 0, sn = 0;
+        const char *p = v;
+        if (!frame_number(&p, &sk) || *p++ != '/' || !frame_number(&p, &sn) || *p ||
+            sn < 1 || sk >= sn)
+            *st = bad_value(name, "K/N with 0 <= K < N, such as 0/4", v);
+        an->shard_k = (int)sk;
+        an->shard_n = (int)sn;
+    } else if (strcmp(name, "--video") == 0) {
+        size_t n = strlen(v), e;
+        for (k = 0; video_ext[k]; k++)
+            if (n > (e = strlen(video_ext[k])) && strcmp(v + n - e, video_ext[k]) == 0)
+                break;
+        if (!video_ext[k])
+            *st = bad_value(name, "a file ending in .mp4, .mkv, .mov, .webm or .gif", v);
+        an->video = v;
+    } else {                                    /* -o, --output */
+        if (!strchr(v, '%') && !strchr(v, '#'))
+            *st = bad_value(name, "a pattern with a frame field, such as "
+                            "out/f_%04d.png or out/f_####.png", v);
+        an->output = v;
+    }
+    return 1;
+}
+
+/* "--knob V", "--out V" or with '='; lancer.accuracy checks what V says. */
+static int parse_accuracy_value(struct cmdline *cl, int *i, const char *name)
+{
+    const char *a = cl->argv[*i], *v;
+    if (a[strlen(name)] == '=')
+        v = a + strlen(name) + 1;
+    else if (cl->argv[*i + 1] != NULL)
+        v = cl->argv[++*i];
+    else
+        return args_usage_error("option '%s' needs a value", name);
+    if (*v == '\0')
+        return args_usage_error("option '%s' needs a value", name);
+    if (name[2] == 'o') {
+        cl->out = v;
+    } else if (cl->nknobs == ACCURACY_KNOBS) {
+        return args_usage_error("option '%s' may be given at most 8 times", name);
+    } else {
+        cl->knobs[cl->nknobs++] = v;
+    }
+    return PARSE_RUN;
+}
+
+/* The accuracy options go together: caught before anything runs. */
+int args_check_accuracy(const struct cmdline *cl)
+{
+    if (!cl->accuracy) {
+        const char *stray = cl->nknobs ? "--knob" : cl->seeds ? "--seeds"
+                          : cl->out ? "--out" : NULL;
+        return stray ? args_usage_error("option '%s' needs --accuracy", stray)
+                     : PARSE_RUN;
+    }
+    if (cl->check)
+        return args_usage_error("option '%s' cannot go with --check", "--accuracy");
+    if (cl->script == 0)
+        return args_usage_error("option '%s' needs a script", "--accuracy");
+    if (cl->nknobs == 0)
+        return args_usage_error("option '%s' needs --knob NAME=L1,L2,...", "--accuracy");
+    if (cl->seeds == 1)
+        return args_usage_error("option '%s' needs at least 2 seeds, got 1", "--seeds");
+    return PARSE_RUN;
+}
+
+/* Checks every option before anything runs, so a typo costs no render. */
+int args_parse(struct cmdline *cl)
+{
+    char **argv = cl->argv;
+    int i;
+    for (i = 1; argv[i] != NULL; i++) {
+        const char *a = argv[i];
+        int st = PARSE_RUN;
+        if (a[0] != '-') {                       /* the script */
+            cl->script = i;
+            return PARSE_RUN;
+        } else if (strcmp(a, "-") == 0) {
+            cl->script = i;
+            cl->script_stdin = 1;
+            return PARSE_RUN;
+        } else if (strcmp(a, "--") == 0) {
+            cl->script = argv[i + 1] ? i + 1 : 0;
+            return PARSE_RUN;
+        } else if (strcmp(a, "--help") == 0) {
+            print_usage();
+            return PARSE_DONE;
+        } else if (strcmp(a, "--version") == 0) {
+            printf("lancer %s (%s)\n", LANCER_VERSION, LUA_RELEASE);
+            return PARSE_DONE;
+        } else if (strcmp(a, "-i") == 0) {
+            cl->interactive = 1;
+        } else if (strncmp(a, "-e", 2) == 0) {   /* -e CODE or -eCODE, as lua5.4 */
+            if (a[2] != '\0')
+                cl->chunks[cl->nchunks++] = a + 2;
+            else if (argv[i + 1] != NULL)
+                cl->chunks[cl->nchunks++] = argv[++i];
+            else
+                return args_usage_error("option '%s' needs an argument", "-e");
+        } else if (strcmp(a, "--check") == 0) {
+            cl->check = 1;
+        } else if (strcmp(a, "--stats") == 0) {
+            cl->stats = 1;
+        } else if (is_opt(a, "--width")) {
+            st = parse_size(cl, &i, "--width", &cl->width);
+        } else if (is_opt(a, "--height")) {
+            st = parse_size(cl, &i, "--height", &cl->height);
+        } else if (is_opt(a, "--samples")) {
+            st = parse_size(cl, &i, "--samples", &cl->samples);
+        } else if (parse_anim_option(cl, &i, &st)) {
+            /* --frames, --shard, --video, ... */
+        } else if (strcmp(a, "--accuracy") == 0) {
+            cl->accuracy = 1;
+        } else if (is_opt(a, "--knob") || is_opt(a, "--out")) {
+            st = parse_accuracy_value(cl, &i, a[2] == 'k' ? "--knob" : "--out");
+        } else if (is_opt(a, "--seeds")) {
+            st = parse_size(cl, &i, "--seeds", &cl->seeds);
+        } else {
+            return args_usage_error("unknown option '%s'", a);
+        }
+        if (st != PARSE_RUN)
+            return st;
+    }
+    cl->script = 0;
+    return PARSE_RUN;
+}
+
