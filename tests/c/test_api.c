@@ -130,7 +130,7 @@ static void interrupt_cancels_running_renders_only(void **state)
     lc_render_options o = lc_render_options_default();
     o.width = 1024;
     o.height = 1024;
-    o.samples = 16;         /* over a second: progress polls every 100 ms */
+    o.samples = 64;         /* seconds of work: progress polls every 100 ms */
     o.progress = signal_once;
     o.progress_ud = &calls;
     lc_stats st;
