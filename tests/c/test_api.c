@@ -84,6 +84,7 @@ static void progress_can_cancel(void **state)
     lc_render_options o = lc_render_options_default();
     o.width = 1024;
     o.height = 1024;
+    o.samples = 64;         /* seconds of work: the first poll comes at 100 ms */
     o.progress = cancel_at_once;
     o.progress_ud = &calls;
     lc_stats st;
