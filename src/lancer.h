@@ -229,8 +229,9 @@ const char *lc_need_name(unsigned need);                /* "shadow", ... */
 ** share of tiles done; a nonzero return stops the render with LC_ECANCEL. */
 typedef int (*lc_progress_fn)(void *ud, double done);
 
-/* Stops the renders running now with LC_ECANCEL (within about 100 ms); renders
-** started afterwards are not affected. Async-signal-safe: for a SIGINT handler. */
+/* Stops the renders running now (building their BVH or tracing) with
+** LC_ECANCEL, once tracing starts, within about 100 ms; renders started
+** afterwards are not affected. Async-signal-safe: for a SIGINT handler. */
 void lc_interrupt(void);
 
 /* How the samples of one pixel are spread over each 2D dimension (pixel

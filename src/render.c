@@ -71,6 +71,7 @@ typedef struct {
     adaptive       *adaptive;   /* NULL: every pixel takes `samples` */
     double          base, share;   /* progress: this pass's start and part of all */
     int             random;     /* some dimension is sampled: pixels need their keys */
+    sig_atomic_t    interrupts_seen;   /* lc_interrupt()'s count when the render began */
 } job;
 
 typedef struct {
@@ -267,7 +268,8 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
 }
 
 /* lc_interrupt() bumps this from a signal handler; a render cancels when it
-** changes while the render waits for its tiles. */
+** has changed since the render began (so a Ctrl-C while the BVH is built
+** stops it at its first poll, and one between adaptive passes too). */
 static volatile sig_atomic_t interrupts;
 
 void lc_interrupt(void)
@@ -301,7 +303,6 @@ static int run_pass(job *j, worker *ws, int nt)
         work(&ws[0]);
     }
     /* The calling thread reports progress between tiles and honours cancel. */
-    sig_atomic_t interrupts_seen = interrupts;
     pthread_mutex_lock(&j->lock);
     while (j->running > 0) {
         struct timespec until;
@@ -312,7 +313,7 @@ static int run_pass(job *j, worker *ws, int nt)
             until.tv_nsec -= 1000000000;
         }
         pthread_cond_timedwait(&j->tile_done, &j->lock, &until);
-        if (interrupts != interrupts_seen)
+        if (interrupts != j->interrupts_seen)
             j->cancel = 1;
         if (o->progress && !j->cancel) {
             double done = j->base + j->share * j->done / j->ntiles;
@@ -338,6 +339,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         lc_fail(err, LC_EARG, "camera", "the scene has no camera");
         return NULL;
     }
+    sig_atomic_t interrupts_seen = interrupts;
     double t0 = clock_seconds();
     if (scene_compile(s, o, err))
         return NULL;
@@ -351,6 +353,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     j.o = o;
     j.scene = s;
     j.img = img;
+    j.interrupts_seen = interrupts_seen;
     camera_frame_init(&s->camera, o->width, o->height, &j.cam);
     j.tiles_x = (o->width + TILE - 1) / TILE;
     j.ntiles = j.tiles_x * ((o->height + TILE - 1) / TILE);
