@@ -26,7 +26,10 @@ WARN    := -Wall -Wextra -Wshadow -Wundef -Wwrite-strings -Wstrict-prototypes \
            -Wmissing-prototypes -Wvla
 # -ffp-contract=off: a fused a*b-c*d breaks the exact sign symmetry the
 # robust geometry relies on (NUMERICS.md 1.12). Never -ffast-math.
-CFLAGS  ?= -O2 -g
+# -O3: 6-8 % fewer instructions than -O2 on B1, B2 and B3 (callgrind), the
+# same image bits on every scene tried and every test passing; the flags
+# below keep IEEE arithmetic (no fused multiply-add, no fast-math).
+CFLAGS  ?= -O3 -g
 CFLAGS  += -std=c99 $(WARN) -ffp-contract=off -fPIC -pthread -D_POSIX_C_SOURCE=200809L
 CPPFLAGS += -MMD -MP
 ifeq ($(SAN),1)
