@@ -117,4 +117,75 @@ function T.has(s, part, what)
   end
 end
 
+-- ---- running the gallery's scripts in this process ----------------------
+
+-- The table render is looked up in: the binding keeps Scene methods in the
+-- metatable's `methods` field (its __index is a function that serves the
+-- settable fields); accept a plain __index table too.
+function T.scene_methods()
+  local mt = debug.getregistry()["lancer.Scene"]
+  assert(type(mt) == "table", "no lancer.Scene metatable in the registry")
+  if type(mt.__index) == "table" then return mt.__index end
+  assert(type(mt.methods) == "table", "lancer.Scene has no method table")
+  return mt.methods
+end
+
+-- Runs script with arg[1] = out (or the array args), every render made at
+-- size.width x size.height with size.samples (default 48x36, 1 sample)
+-- and checked free of NaN and infinities; on_render(img, stats, n) sees
+-- each. Returns the number of renders. Restores render, arg and print.
+-- frames: for animations, the --frames ranges to render. What the script
+-- writes on stderr is dropped.
+function T.run_script(script, out, frames, size, on_render)
+  local lancer = require "lancer"
+  size = size or {width = 48, height = 36, samples = 1}
+  local methods = T.scene_methods()
+  local render = methods.render
+  local renders = 0
+  local saved_overrides, saved_arg, saved_print = lancer.overrides, arg, print
+  methods.render = function(self, opts)
+    local o = {}
+    for k, v in pairs(opts or {}) do o[k] = v end
+    o.width, o.height, o.samples = size.width, size.height, size.samples
+    local img, stats = render(self, o)
+    renders = renders + 1
+    T.eq(T.bad_pixels(img), 0, script .. ": NaN/inf channels in render " .. renders)
+    if on_render then on_render(img, stats, renders) end
+    return img, stats
+  end
+  lancer.overrides = {frames = frames}
+  arg = type(out) == "table" and out or {[0] = script, [1] = out}
+  print = function() end              -- scripts report what they wrote; not here
+  local saved_stderr = io.stderr
+  io.stderr = {write = function() end, flush = function() end}  -- frame logs, bench lines
+  local ok, err = pcall(function()
+    local chunk = assert(loadfile(script))
+    chunk(table.unpack(arg))
+  end)
+  methods.render = render
+  io.stderr = saved_stderr
+  lancer.overrides = saved_overrides
+  arg = saved_arg
+  print = saved_print
+  if not ok then error(err, 0) end
+  return renders
+end
+
+-- A 64-bit FNV-1a digest of an image's linear float channels, bit for bit.
+function T.image_digest(img)
+  local h = -3750763034362895579            -- 0xcbf29ce484222325
+  local pack, byte = string.pack, string.byte
+  for y = 1, img.height do
+    local row = {}
+    for x = 1, img.width do
+      row[x] = pack("<fff", img:pixel(x, y))
+    end
+    local s = table.concat(row)
+    for i = 1, #s do
+      h = (h ~ byte(s, i)) * 1099511628211    -- 0x100000001b3, wrapping
+    end
+  end
+  return ("%016x"):format(h)
+end
+
 return T

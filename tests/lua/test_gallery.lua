@@ -19,51 +19,7 @@ local function exists(path)
   return f ~= nil
 end
 
--- The table render is looked up in: the binding keeps Scene methods in the
--- metatable's `methods` field (its __index is a function that serves the
--- settable fields); accept a plain __index table too.
-local function scene_methods()
-  local mt = debug.getregistry()["lancer.Scene"]
-  assert(type(mt) == "table", "no lancer.Scene metatable in the registry")
-  if type(mt.__index) == "table" then return mt.__index end
-  assert(type(mt.methods) == "table", "lancer.Scene has no method table")
-  return mt.methods
-end
-
--- Runs script with arg[1] = out, tiny overrides, and every render checked.
--- Returns the number of renders. Restores overrides, render, arg and print.
--- frames: for animations, the --frames ranges to render (their log lines
--- on stderr are dropped).
-local function run_script(script, out, frames)
-  local methods = scene_methods()
-  local render = methods.render
-  local renders = 0
-  local saved_overrides, saved_arg, saved_print = lancer.overrides, arg, print
-  methods.render = function(self, ...)
-    local img, stats = render(self, ...)
-    renders = renders + 1
-    T.eq(img.width, 48, "width under overrides")
-    T.eq(img.height, 36, "height under overrides")
-    T.eq(T.bad_pixels(img), 0, script .. ": NaN/inf channels in render " .. renders)
-    return img, stats
-  end
-  lancer.overrides = {width = 48, height = 36, samples = 1, frames = frames}
-  arg = {[0] = script, [1] = out}
-  print = function() end              -- scripts report what they wrote; not here
-  local saved_stderr = io.stderr
-  if frames then io.stderr = {write = function() end, flush = function() end} end
-  local ok, err = pcall(function()
-    local chunk = assert(loadfile(script))
-    chunk(out)
-  end)
-  methods.render = render
-  io.stderr = saved_stderr
-  lancer.overrides = saved_overrides
-  arg = saved_arg
-  print = saved_print
-  if not ok then error(err, 0) end
-  return renders
-end
+local run_script = T.run_script
 
 local function shell_quote(s) return "'" .. s:gsub("'", [['\'']]) .. "'" end
 
