@@ -119,6 +119,8 @@ typedef struct {
     lc_falloff falloff;
 } lc_point_light;
 
+lc_point_light lc_point_light_default(void);  /* at the origin, white, intensity 1,
+                                              ** inverse-square falloff */
 lc_status lc_point_light_check(const lc_point_light *l, lc_error *err);
 
 typedef struct {
@@ -128,6 +130,8 @@ typedef struct {
     double  focus;        /* distance from `from` to the sharp plane; 0 = to `at` */
 } lc_camera;
 
+lc_camera lc_camera_default(void);  /* from (0, 0, 0) at (0, 0, -1), up +y, fov 60,
+                                    ** a pinhole: set `from` and `at` */
 lc_status lc_camera_check(const lc_camera *c, lc_error *err);
 
 /* ---- Scenes ---------------------------------------------------------------- */

@@ -66,8 +66,9 @@ lc_status lc_scene_configure(lc_scene *s, const lc_settings *st, lc_error *err)
                 return lc_fail(err, LC_EARG, names[i],
                                "component %d must be finite and >= 0, got %g", k + 1, ch[k]);
     }
-    if (st->max_depth < 0)
-        return lc_fail(err, LC_EARG, "max_depth", "must be >= 0, got %d", st->max_depth);
+    if (st->max_depth < 0 || st->max_depth > LC_MAX_DEPTH)
+        return lc_fail(err, LC_EARG, "max_depth", "must be in [0, %d], got %d", LC_MAX_DEPTH,
+                       st->max_depth);
     s->settings = *st;
     lc_ok(err);
     return LC_OK;

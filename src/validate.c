@@ -19,6 +19,18 @@ lc_settings lc_settings_default(void)
     return s;
 }
 
+lc_point_light lc_point_light_default(void)
+{
+    lc_point_light l = {{0, 0, 0}, {1, 1, 1}, 1, LC_FALLOFF_INVERSE_SQUARE};
+    return l;
+}
+
+lc_camera lc_camera_default(void)
+{
+    lc_camera c = {{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 60, 0, 0};
+    return c;
+}
+
 static int finite3(lc_vec3 v)
 {
     return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);

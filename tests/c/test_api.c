@@ -40,6 +40,34 @@ static void readme_example_renders(void **state)
     lc_scene_free(s);
 }
 
+/* The defaults the binding builds on live in the core, and every rule the
+** binding enforces the core enforces too. */
+static void defaults_and_rules_live_in_the_core(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_camera cam = lc_camera_default();
+    assert_int_equal(lc_camera_check(&cam, &err), LC_OK);
+    assert_true(cam.fov == 60 && cam.up.y == 1 && cam.aperture == 0);
+    lc_point_light l = lc_point_light_default();
+    assert_int_equal(lc_point_light_check(&l, &err), LC_OK);
+    assert_true(l.intensity == 1 && l.color.g == 1 && l.falloff == LC_FALLOFF_INVERSE_SQUARE);
+    lc_scene *s = lc_scene_new(&err);
+    lc_settings st = lc_settings_default();
+    st.max_depth = LC_MAX_DEPTH + 1;
+    assert_int_equal(lc_scene_configure(s, &st, &err), LC_EARG);
+    assert_string_equal(err.field, "max_depth");
+    st.max_depth = LC_MAX_DEPTH;
+    assert_int_equal(lc_scene_configure(s, &st, &err), LC_OK);
+    lc_render_options o = lc_render_options_default();
+    o.cutoff = 1.5;
+    assert_int_equal(lc_render_options_check(&o, &err), LC_EARG);
+    assert_string_equal(err.field, "cutoff");
+    o.cutoff = NAN;
+    assert_int_equal(lc_render_options_check(&o, &err), LC_EARG);
+    lc_scene_free(s);
+}
+
 static void errors_name_the_field(void **state)
 {
     (void)state;
@@ -159,6 +187,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(readme_example_renders),
         cmocka_unit_test(errors_name_the_field),
+        cmocka_unit_test(defaults_and_rules_live_in_the_core),
         cmocka_unit_test(progress_can_cancel),
         cmocka_unit_test(interrupt_cancels_running_renders_only),
     };
