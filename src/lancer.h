@@ -62,6 +62,11 @@ typedef struct {
 } lc_shape;
 
 lc_status lc_shape_check(const lc_shape *s, lc_error *err); /* sizes, NaN, parallel */
+/* "sphere", "quad", "box", "plane"; LC_SHAPE_KINDS names a mesh's "triangle". */
+const char *lc_shape_kind_name(lc_shape_kind k);
+/* The shape as a scene stores and lists it (a plane's normal made unit), so
+** that what scene objects list can be compared with what was added. */
+lc_status lc_shape_stored(const lc_shape *s, lc_shape *out, lc_error *err);
 
 /* ---- Transforms ------------------------------------------------------------ */
 

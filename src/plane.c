@@ -70,3 +70,16 @@ int plane_hit_inv(const plane_geom *g, const lc_ray *r, const double *inv, doubl
     h->n = g->n;
     return 1;
 }
+
+lc_status lc_shape_stored(const lc_shape *s, lc_shape *out, lc_error *err)
+{
+    if (lc_shape_check(s, err))
+        return LC_EARG;
+    *out = *s;
+    if (s->kind == LC_PLANE) {
+        plane_geom g;
+        plane_prepare(s, &g);
+        out->u = g.n;
+    }
+    return LC_OK;
+}

@@ -181,3 +181,9 @@ lc_status lc_camera_check(const lc_camera *c, lc_error *err)
     lc_ok(err);
     return LC_OK;
 }
+
+const char *lc_shape_kind_name(lc_shape_kind k)
+{
+    static const char *const names[] = {"sphere", "quad", "box", "plane", "triangle"};
+    return (unsigned)k <= LC_SHAPE_KINDS ? names[k] : "?";
+}

@@ -65,6 +65,19 @@ static void defaults_and_rules_live_in_the_core(void **state)
     assert_string_equal(err.field, "cutoff");
     o.cutoff = NAN;
     assert_int_equal(lc_render_options_check(&o, &err), LC_EARG);
+    lc_shape pl = {LC_PLANE, {0, 1, 0}, {0, 3, 4}, {0, 0, 0}, {0, 0, 0}, 0}, stored;
+    assert_int_equal(lc_shape_stored(&pl, &stored, &err), LC_OK);
+    assert_true(stored.u.x == 0 && fabs(stored.u.y - 0.6) < 3e-16 &&
+                fabs(stored.u.z - 0.8) < 3e-16);
+    int mi = lc_scene_add_material(s, &(lc_material){lc_material_default().color, 0, 1, 0,
+                                                      0, 1, {0, 0, 0}, LC_ABSORB_ALL, 0, 1},
+                                   &err);
+    int id = lc_scene_add_shape(s, &pl, mi, &err);
+    lc_object obj;
+    assert_int_equal(lc_scene_object(s, id, &obj, &err), LC_OK);
+    assert_memory_equal(&obj.shape, &stored, sizeof stored);
+    assert_string_equal(lc_shape_kind_name(LC_BOX), "box");
+    assert_string_equal(lc_shape_kind_name(LC_SHAPE_KINDS), "triangle");
     lc_scene_free(s);
 }
 
