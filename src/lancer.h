@@ -305,6 +305,8 @@ typedef struct {
     uint64_t prim_tests;         /* ray/primitive intersection tests */
     uint64_t node_tests;         /* ray/BVH node tests */
     char     why[LC_NEEDS][160]; /* for each effect, why it is on or off */
+    char     warning[160];       /* empty, or why the picture is likely not what was
+                                 ** meant (no light at all; every pixel black) */
 } lc_stats;
 
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,

@@ -1,6 +1,7 @@
 /* render.c: tiles traced in parallel into a linear image, with statistics. */
 #include <pthread.h>
 #include <signal.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -330,6 +331,25 @@ static int run_pass(job *j, worker *ws, int nt)
     return started ? started : 1;
 }
 
+/* A picture that is likely not what was meant: a scene nothing lights, or
+** one whose every pixel came out black. */
+static void warn(const lc_scene *s, const lc_image *img, lc_stats *st)
+{
+    st->warning[0] = '\0';
+    if (s->nlights == 0 && s->nemitters == 0 && c_is_black(s->settings.ambient)) {
+        snprintf(st->warning, sizeof st->warning, "the scene has no light (no point "
+                 "light, no emissive shape, no ambient light): only the background shows");
+        return;
+    }
+    size_t n = 3 * (size_t)img->width * img->height;
+    for (size_t i = 0; i < n; i++)
+        if (img->px[i] != 0)
+            return;
+    snprintf(st->warning, sizeof st->warning, "every pixel is black: the lights reach "
+             "nothing the camera sees (check the camera, the lights' positions and "
+             "intensities, and the colours)");
+}
+
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
                           lc_error *err)
 {
@@ -418,6 +438,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     sum.degenerate = s->c.degenerate;
     memcpy(sum.why, s->c.why, sizeof sum.why);
     sum.threads = threads;
+    warn(s, img, &sum);
     int cancelled = j.cancel;
     free(ws);
     pthread_mutex_destroy(&j.lock);

@@ -81,6 +81,40 @@ static void defaults_and_rules_live_in_the_core(void **state)
     lc_scene_free(s);
 }
 
+/* A picture that is likely a mistake says so in the statistics. */
+static void dark_renders_warn(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_scene *s = lc_scene_new(&err);
+    lc_camera cam = lc_camera_default();
+    cam.from = (lc_vec3){0, 0, 4};
+    cam.at = (lc_vec3){0, 0, 0};
+    assert_int_equal(lc_scene_set_camera(s, &cam, &err), LC_OK);
+    lc_material m = lc_material_default();
+    int mi = lc_scene_add_material(s, &m, &err);
+    lc_shape ball = {LC_SPHERE, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 1};
+    lc_scene_add_shape(s, &ball, mi, &err);
+    lc_render_options o = lc_render_options_default();
+    o.width = o.height = 8;
+    lc_stats st;
+    lc_image *img = lc_scene_render(s, &o, &st, &err);
+    assert_non_null(strstr(st.warning, "no light"));
+    lc_image_free(img);
+    lc_point_light l = lc_point_light_default();
+    l.position = (lc_vec3){0, 0, -4};              /* behind the ball: all dark */
+    lc_scene_add_light(s, &l, &err);
+    img = lc_scene_render(s, &o, &st, &err);
+    assert_non_null(strstr(st.warning, "every pixel is black"));
+    lc_image_free(img);
+    l.position = (lc_vec3){0, 0, 4};
+    lc_scene_add_light(s, &l, &err);
+    img = lc_scene_render(s, &o, &st, &err);
+    assert_string_equal(st.warning, "");
+    lc_image_free(img);
+    lc_scene_free(s);
+}
+
 static void errors_name_the_field(void **state)
 {
     (void)state;
@@ -200,6 +234,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(readme_example_renders),
         cmocka_unit_test(errors_name_the_field),
+        cmocka_unit_test(dark_renders_warn),
         cmocka_unit_test(defaults_and_rules_live_in_the_core),
         cmocka_unit_test(progress_can_cancel),
         cmocka_unit_test(interrupt_cancels_running_renders_only),
