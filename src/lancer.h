@@ -351,6 +351,10 @@ void      lc_image_set(lc_image *img, int x, int y, lc_color c);
 uint8_t   lc_encode_channel(float linear, lc_encoding enc); /* clamp, encode, round */
 lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding enc,
                             lc_error *err);             /* temp file, then rename */
+/* Saves in the format the path's extension names (.png, case-insensitive);
+** any other extension is refused, naming it, rather than written as PNG. */
+lc_status lc_image_save(const lc_image *img, const char *path, lc_encoding enc,
+                        lc_error *err);
 /* Reads any PNG; pixels are decoded from sRGB, or taken as stored (v / max)
 ** with LC_ENCODE_LINEAR. Alpha is dropped, grey becomes RGB. */
 lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err);

@@ -41,7 +41,7 @@ static int w_image_save(lua_State *L)
         enc = (lc_encoding)lf_option(L, 3, "encoding", encoding_opts, 0);
     }
     lc_error err;
-    if (lc_image_save_png(img, path, enc, &err))
+    if (lc_image_save(img, path, enc, &err))
         return luaL_argerror(L, 2, err.msg);     /* names 'save' and the path */
     lua_settop(L, 1);
     return 1;

@@ -702,6 +702,15 @@ T.test("img:save with an empty path", function()
   T.check_error(function() img:save("") end, HERE, "empty", "'save'")
 end)
 
+T.test("img:save refuses an extension it cannot write", function()
+  local img = fixtures().img
+  for _, name in ipairs{"out.jpg", "out.exr", "out.PNG.bak", "dir.png/out"} do
+    T.check_error(function() img:save(name) end, HERE, "bad argument #1 to 'save'",
+                  "cannot write '" .. name .. "'", "lancer writes .png")
+  end
+  T.check_error(function() img:save("out.jpg") end, HERE, "unknown extension '.jpg'")
+end)
+
 T.test("img:save path of the wrong type", function()
   local img = fixtures().img
   T.check_error(function() img:save() end, HERE, "bad argument #1 to 'save'",
