@@ -9,7 +9,6 @@
 #define BINS 16
 #define MIN_LEAF 4        /* fewer is always a leaf: nodes cost memory too */
 #define MAX_LEAF 8        /* a leaf never holds more, unless the prims cannot be split */
-#define MAX_DEPTH 64
 #define TRAVERSAL_COST 0.5f  /* one node visit, relative to one primitive test */
 
 float bvh_down(double x)
@@ -22,6 +21,34 @@ float bvh_up(double x)
 {
     float f = (float)x;
     return (double)f < x ? nextafterf(f, INFINITY) : f;
+}
+
+void bvh_bounds_empty(float lo[3], float hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        lo[k] = HUGE_VALF;
+        hi[k] = -HUGE_VALF;
+    }
+}
+
+void bvh_bounds_exact(float lo[3], float hi[3], const double p[3])
+{
+    for (int k = 0; k < 3; k++) {
+        float a = bvh_down(p[k]), b = bvh_up(p[k]);
+        if (a < lo[k]) lo[k] = a;
+        if (b > hi[k]) hi[k] = b;
+    }
+}
+
+void bvh_bounds_grow(float lo[3], float hi[3], lc_vec3 p)
+{
+    double c[3] = {p.x, p.y, p.z};
+    for (int k = 0; k < 3; k++) {
+        float a = bvh_down(nextafter(c[k], -HUGE_VAL));
+        float b = bvh_up(nextafter(c[k], HUGE_VAL));
+        if (a < lo[k]) lo[k] = a;
+        if (b > hi[k]) hi[k] = b;
+    }
 }
 
 typedef struct { float lo[3], hi[3]; } box3;
@@ -124,7 +151,7 @@ static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bound
     if (ext[1] > ext[axis]) axis = 1;
     if (ext[2] > ext[axis]) axis = 2;
 
-    int leaf = n <= MIN_LEAF || depth >= MAX_DEPTH;
+    int leaf = n <= MIN_LEAF || depth >= BVH_MAX_DEPTH;
     size_t mid = begin;
     box3 lb, rb, lcb, rcb;
     int measured = 0;

@@ -4,8 +4,6 @@
 #include "error.h"
 #include "scene.h"
 
-#define STACK 128   /* as intersect.c: BVH depth is at most 64 plus leaf halvings */
-
 /* |a| |b| for 3x3 blocks of transforms. */
 static void abs_product(const lc_transform *a, const lc_transform *b, double out[3][3])
 {
@@ -278,9 +276,8 @@ void instance_bounds(const lc_scene *s, size_t i, float lo[3], float hi[3])
 /* ---- tracing ----------------------------------------------------------------- */
 
 typedef struct {
-    lc_ray  r;             /* in object space: d is not unit, so t is the world's */
-    double  o[3], inv[3];
-    int     neg[3];
+    lc_ray    r;           /* in object space: d is not unit, so t is the world's */
+    bvh_ray   b;
     tri_shear sh;
 } object_ray;
 
@@ -288,14 +285,7 @@ static void object_ray_init(object_ray *q, const instance_xf *x, const lc_ray *r
 {
     q->r.o = lc_transform_point(&x->inv, r->o);
     q->r.d = lc_transform_vector(&x->inv, r->d);
-    double d[3] = {q->r.d.x, q->r.d.y, q->r.d.z};
-    q->o[0] = q->r.o.x;
-    q->o[1] = q->r.o.y;
-    q->o[2] = q->r.o.z;
-    for (int k = 0; k < 3; k++) {
-        q->inv[k] = 1.0 / d[k];
-        q->neg[k] = q->inv[k] < 0;
-    }
+    bvh_ray_init(&q->b, q->r.o, q->r.d);
     tri_shear_init(q->r.d, &q->sh);
 }
 
@@ -348,73 +338,56 @@ static void to_world(const mesh_prim *mp, const mesh_bvh *mb,
     h->shape = PRIM_ID(PRIM_TRIANGLE, mb->tri_base + k);
 }
 
+/* The nearest-face search in one instance's BVH. */
+typedef struct {
+    const lc_mesh  *mesh;
+    const mesh_bvh *mb;
+    const object_ray *q;
+    double   best;          /* 0: nothing yet */
+    uint32_t best_k;
+    lc_hit  *h, *tmp;
+    uint64_t np;
+} face_search;
+
+static inline double closest_face(void *ctx, uint32_t k, double tmax)
+{
+    face_search *c = ctx;
+    c->np++;
+    if (face_hit(c->mesh, c->mb->face[k], c->q, tmax, c->tmp) &&
+        (c->best == 0 || c->tmp->t < c->best || (c->tmp->t == c->best && k < c->best_k))) {
+        c->best = c->tmp->t;
+        c->best_k = k;
+        *c->h = *c->tmp;
+        tmax = next_up(c->best);
+    }
+    return tmax;
+}
+
 double instance_hit(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
                     lc_hit *h, lc_counts *counts)
 {
     const mesh_prim *mp = &s->meshes[i];
     const mesh_bvh *mb = &s->blas[mp->blas];
-    const bvh *b = &mb->bvh;
-    if (!b->nnodes)
+    if (!mb->bvh.nnodes)
         return 0;
     object_ray q;
     object_ray_init(&q, mp->xf, r);
-    uint64_t np = 0, nn = 1;
-    double best = 0;
-    uint32_t best_k = 0;
     lc_hit tmp;
-    if (bvh_enter(&b->nodes[0], q.o, q.inv, q.neg, tmax) < HUGE_VAL) {
-        uint32_t stack[STACK];
-        double enter[STACK];
-        int sp = 0;
-        uint32_t ni = 0;
-        for (;;) {
-            const bvh_node *nd = &b->nodes[ni];
-            if (nd->count) {
-                for (uint32_t j = 0; j < nd->count; j++) {
-                    uint32_t k = b->refs[nd->start + j];
-                    np++;
-                    if (face_hit(mp->mesh, mb->face[k], &q, tmax, &tmp) &&
-                        (best == 0 || tmp.t < best || (tmp.t == best && k < best_k))) {
-                        best = tmp.t;
-                        best_k = k;
-                        *h = tmp;
-                        tmax = next_up(best);
-                    }
-                }
-            } else {
-                uint32_t c0 = ni + 1, c1 = nd->start;
-                double t0 = bvh_enter(&b->nodes[c0], q.o, q.inv, q.neg, tmax);
-                double t1 = bvh_enter(&b->nodes[c1], q.o, q.inv, q.neg, tmax);
-                nn += 2;
-                if (t1 < t0) {
-                    uint32_t c = c0; c0 = c1; c1 = c;
-                    double t = t0; t0 = t1; t1 = t;
-                }
-                if (t0 < HUGE_VAL) {
-                    if (t1 < HUGE_VAL) {
-                        stack[sp] = c1;
-                        enter[sp++] = t1;
-                    }
-                    ni = c0;
-                    continue;
-                }
-            }
-            do {
-                if (sp == 0)
-                    goto done;
-                --sp;
-            } while (enter[sp] > tmax);
-            ni = stack[sp];
-        }
-    }
-done:
-    counts->prims += np;
-    counts->nodes += nn;
-    if (best == 0)
+    face_search c = {mp->mesh, mb, &q, 0, 0, h, &tmp, 0};
+    counts->nodes += bvh_closest(&mb->bvh, &q.b, tmax, &c, closest_face);
+    counts->prims += c.np;
+    if (c.best == 0)
         return 0;
-    to_world(mp, mb, best_k, h);
+    to_world(mp, mb, c.best_k, h);
     h->instance = i + 1;
-    return best;
+    return c.best;
+}
+
+static inline int any_face(void *ctx, uint32_t k, double tmax)
+{
+    face_search *c = ctx;
+    c->np++;
+    return face_hit(c->mesh, c->mb->face[k], c->q, tmax, c->tmp);
 }
 
 int instance_occluded(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
@@ -422,45 +395,13 @@ int instance_occluded(const lc_scene *s, uint32_t i, const lc_ray *r, double tma
 {
     const mesh_prim *mp = &s->meshes[i];
     const mesh_bvh *mb = &s->blas[mp->blas];
-    const bvh *b = &mb->bvh;
-    if (!b->nnodes)
+    if (!mb->bvh.nnodes)
         return 0;
     object_ray q;
     object_ray_init(&q, mp->xf, r);
     lc_hit tmp;
-    int hit = 0;
-    counts->nodes++;
-    if (bvh_enter(&b->nodes[0], q.o, q.inv, q.neg, tmax) == HUGE_VAL)
-        return 0;
-    uint32_t stack[STACK];
-    int sp = 0;
-    uint32_t ni = 0;
-    for (;;) {
-        const bvh_node *nd = &b->nodes[ni];
-        if (nd->count) {
-            for (uint32_t j = 0; j < nd->count; j++) {
-                counts->prims++;
-                if (face_hit(mp->mesh, mb->face[b->refs[nd->start + j]], &q, tmax, &tmp)) {
-                    hit = 1;
-                    goto done;
-                }
-            }
-        } else {
-            uint32_t c0 = ni + 1, c1 = nd->start;
-            int h0 = bvh_enter(&b->nodes[c0], q.o, q.inv, q.neg, tmax) < HUGE_VAL;
-            int h1 = bvh_enter(&b->nodes[c1], q.o, q.inv, q.neg, tmax) < HUGE_VAL;
-            counts->nodes += 2;
-            if (h0 || h1) {
-                if (h0 && h1)
-                    stack[sp++] = c1;
-                ni = h0 ? c0 : c1;
-                continue;
-            }
-        }
-        if (sp == 0)
-            break;
-        ni = stack[--sp];
-    }
-done:
-    return hit;
+    face_search c = {mp->mesh, mb, &q, 0, 0, NULL, &tmp, 0};
+    int found = bvh_any(&mb->bvh, &q.b, tmax, &c, any_face, &counts->nodes);
+    counts->prims += c.np;
+    return found;
 }
