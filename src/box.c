@@ -1,5 +1,24 @@
-/* box.c: ray/parallelepiped hit as one solid (slab test), not six quads. */
-#include "geom.h"
+/* box.c: parallelepipeds: checks, moving, bounds, the hit as one solid (slab
+** test, not six quads), and sampling one as a light (by area of the faces
+** that face the point). */
+#include "bvh.h"
+#include "sample.h"
+#include "shape.h"
+#include "validate.h"
+
+lc_status box_check(const lc_shape *s, lc_error *err)
+{
+    if (validate_vec(s->p, "corner", err) || validate_nonzero(s->u, "u", err) ||
+        validate_nonzero(s->v, "v", err) || validate_nonzero(s->w, "w", err) ||
+        validate_not_parallel(s->u, s->v, "u", "v", err) ||
+        validate_not_parallel(s->v, s->w, "v", "w", err) ||
+        validate_not_parallel(s->u, s->w, "u", "w", err))
+        return LC_EARG;
+    lc_vec3 nu = v3_norm(s->u), nv = v3_norm(s->v), nw = v3_norm(s->w);
+    if (!(fabs(v3_dot(v3_cross(nu, nv), nw)) > PARALLEL_SIN))
+        return lc_fail(err, LC_EARG, "w", "'u', 'v' and 'w' must not be coplanar");
+    return LC_OK;
+}
 
 void box_prepare(const lc_shape *s, box_geom *g)
 {
@@ -25,6 +44,47 @@ void box_prepare(const lc_shape *s, box_geom *g)
             g->lo[i] = 0;
             g->hi[i] = 1;
         }
+    }
+}
+
+void box_describe(const box_geom *g, lc_shape *s)
+{
+    s->p = g->q;
+    s->u = g->e[0];
+    s->v = g->e[1];
+    s->w = g->e[2];
+}
+
+/* Exact under any affine map: the corner is a point, the edges vectors. */
+lc_status box_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
+                        lc_error *err)
+{
+    (void)err;
+    *out = *s;
+    out->p = lc_transform_point(t, s->p);
+    out->u = lc_transform_vector(t, s->u);
+    out->v = lc_transform_vector(t, s->v);
+    out->w = lc_transform_vector(t, s->w);
+    return LC_OK;
+}
+
+void box_scale(lc_shape *s, double k, lc_vec3 offset)
+{
+    s->p = v3(s->p.x * k + offset.x, s->p.y * k + offset.y, s->p.z * k + offset.z);
+    s->u = v3_mul(s->u, k);
+    s->v = v3_mul(s->v, k);
+    s->w = v3_mul(s->w, k);
+}
+
+void box_bounds(const box_geom *g, float lo[3], float hi[3])
+{
+    bvh_bounds_empty(lo, hi);
+    for (int corner = 0; corner < 8; corner++) {
+        lc_vec3 p = g->q;
+        for (int e = 0; e < 3; e++)
+            if (corner & (1 << e))
+                p = v3_add(p, g->e[e]);
+        bvh_bounds_grow(lo, hi, p);
     }
 }
 
@@ -120,5 +180,80 @@ int box_hit_inv(const box_geom *g, const lc_ray *r, const double *inv, double tm
     h->p = p;
     h->perr = perr;
     h->n = at_hi ? g->un[axis] : v3_neg(g->un[axis]);
+    return 1;
+}
+
+/* ---- as a light ------------------------------------------------------------------ */
+
+static lc_vec3 box_centre(const box_geom *g)
+{
+    return v3_add(g->q, v3_mul(v3_add(v3_add(g->e[0], g->e[1]), g->e[2]), 0.5));
+}
+
+/* The face of edge pair (a + 1, a + 2), as a vector of its area: v x w,
+** w x u, u x v. */
+static lc_vec3 face_area(const box_geom *g, int a)
+{
+    return v3_cross(g->e[(a + 1) % 3], g->e[(a + 2) % 3]);
+}
+
+/* The seed's model: the box's projected area (three faces' worth, of which
+** one side each is seen) over d^2, over pi. */
+double box_light_centre(const box_geom *g, lc_vec3 l, double d)
+{
+    double a = fabs(v3_dot(face_area(g, 0), l));
+    a += fabs(v3_dot(face_area(g, 1), l)) + fabs(v3_dot(face_area(g, 2), l));
+    return a / (PI * d * d);
+}
+
+/* The faces that face p; none when p is inside (it lights nothing then). */
+int box_light_begin(const box_geom *g, lc_vec3 p, box_light *bl)
+{
+    lc_vec3 c = box_centre(g);
+    bl->total = 0;
+    bl->n = 0;
+    for (int a = 0; a < 3; a++) {
+        lc_vec3 ea = g->e[a], nrm = face_area(g, a);
+        if (v3_dot(nrm, ea) < 0)
+            nrm = v3_neg(nrm);
+        double side = v3_dot(v3_sub(p, c), nrm), half = 0.5 * v3_dot(ea, nrm);
+        lc_vec3 *f = bl->face[bl->n];
+        if (side > half) {                              /* beyond the + face */
+            f[0] = v3_madd(g->q, ea, 1);
+        } else if (side < -half) {
+            f[0] = g->q;
+            nrm = v3_neg(nrm);
+        } else {
+            continue;
+        }
+        f[1] = g->e[(a + 1) % 3];
+        f[2] = g->e[(a + 2) % 3];
+        f[3] = nrm;
+        bl->area[bl->n] = v3_len(nrm);
+        bl->total += bl->area[bl->n++];
+    }
+    return bl->n > 0;
+}
+
+/* Uniform over the total area of the faces seen: u[0] picks the face (and
+** is stretched back to [0, 1) inside it). */
+int box_light_sample(const box_geom *g, const box_light *bl, lc_vec3 p,
+                     const double u[2], uint32_t S, light_sample *out)
+{
+    (void)g;
+    double pick = u[0] * bl->total;
+    int f = 0;
+    while (f < bl->n - 1 && pick >= bl->area[f])
+        pick -= bl->area[f++];
+    double s = fmin(pick / bl->area[f], BELOW_ONE);
+    const lc_vec3 *face = bl->face[f];
+    lc_vec3 q = v3_madd(v3_madd(face[0], face[1], s), face[2], u[1]);
+    lc_vec3 tq = v3_sub(q, p);
+    double d2 = v3_dot(tq, tq), dist = sqrt(d2);
+    if (!(dist > 0))
+        return 0;
+    out->l = v3_mul(tq, 1 / dist);
+    out->k = bl->total * fabs(v3_dot(face[3], out->l)) / v3_len(face[3]) / (PI * d2 * S);
+    out->dist = dist * (1 - SHADOW_SHORTEN);
     return 1;
 }

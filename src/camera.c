@@ -1,8 +1,6 @@
 /* camera.c: the camera's frame and its primary rays, pinhole or thin lens. */
 #include "camera.h"
 
-#define PI 3.14159265358979323846
-
 void camera_frame_init(const lc_camera *c, int width, int height, camera_frame *cf)
 {
     cf->o = c->from;

@@ -9,43 +9,12 @@
 #include "clock.h"
 #include "camera.h"
 
-#define PI 3.14159265358979323846
-
 void compiled_free(compiled *c)
 {
     free(c->plan);
     free(c->tris);
     bvh_free(&c->bvh);
     memset(c, 0, sizeof *c);
-}
-
-/* A bound one ulp outside the double it comes from, then rounded outward to
-** float: the box contains the shape whatever the rounding of c - r or q + u. */
-static void grow(float lo[3], float hi[3], lc_vec3 p)
-{
-    double c[3] = {p.x, p.y, p.z};
-    for (int k = 0; k < 3; k++) {
-        float a = bvh_down(nextafter(c[k], -HUGE_VAL));
-        float b = bvh_up(nextafter(c[k], HUGE_VAL));
-        if (a < lo[k]) lo[k] = a;
-        if (b > hi[k]) hi[k] = b;
-    }
-}
-
-static void empty(float lo[3], float hi[3])
-{
-    for (int k = 0; k < 3; k++) {
-        lo[k] = HUGE_VALF;
-        hi[k] = -HUGE_VALF;
-    }
-}
-
-static int degenerate(const double *a, const double *b, const double *c)
-{
-    lc_vec3 p = v3(a[0], a[1], a[2]);
-    lc_vec3 n = v3_cross(v3_sub(v3(b[0], b[1], b[2]), p), v3_sub(v3(c[0], c[1], c[2]), p));
-    double l = v3_dot(n, n);
-    return !(l > 0 && isfinite(l));
 }
 
 /* Lists the non-degenerate triangles: a zero-area face can never be hit,
@@ -69,7 +38,7 @@ static lc_status list_triangles(lc_scene *s, lc_error *err)
             continue;
         for (size_t f = 0; f < m->nf; f++) {
             const uint32_t *ix = m->f + 3 * f;
-            if (degenerate(m->v + 3 * ix[0], m->v + 3 * ix[1], m->v + 3 * ix[2])) {
+            if (tri_degenerate(m->v + 3 * ix[0], m->v + 3 * ix[1], m->v + 3 * ix[2])) {
                 c->degenerate++;
                 continue;
             }
@@ -81,57 +50,31 @@ static lc_status list_triangles(lc_scene *s, lc_error *err)
     return instances_compile(s, err);
 }
 
-static void item_init(bvh_item *it, uint32_t id)
-{
-    empty(it->lo, it->hi);
-    it->id = id;
-}
-
 static lc_status build_bvh(lc_scene *s, lc_error *err)
 {
     compiled *c = &s->c;
-    size_t n = s->nspheres + s->nquads + s->nboxes + c->nflat + c->ninstances;
+    size_t n = c->nflat + c->ninstances;
+    for (int k = 0; k < LC_SHAPE_KINDS; k++)
+        if (shape_bounded((lc_shape_kind)k))
+            n += s->shapes[k].n;
     bvh_item *items = malloc((n + 1) * sizeof *items);
     if (!items)
         return lc_fail(err, LC_ENOMEM, NULL, "out of memory bounding %zu primitives", n);
     bvh_item *it = items;
-    for (size_t i = 0; i < s->nspheres; i++, it++) {
-        const sphere_geom *g = &s->spheres[i].g;
-        item_init(it, PRIM_ID(PRIM_SPHERE, i));
-        grow(it->lo, it->hi, v3(g->c.x - g->r, g->c.y - g->r, g->c.z - g->r));
-        grow(it->lo, it->hi, v3(g->c.x + g->r, g->c.y + g->r, g->c.z + g->r));
-    }
-    for (size_t i = 0; i < s->nquads; i++, it++) {
-        const quad_geom *g = &s->quads[i].g;
-        item_init(it, PRIM_ID(PRIM_QUAD, i));
-        grow(it->lo, it->hi, g->q);
-        grow(it->lo, it->hi, v3_add(g->q, g->u));
-        grow(it->lo, it->hi, v3_add(g->q, g->v));
-        grow(it->lo, it->hi, v3_add(v3_add(g->q, g->u), g->v));
-    }
-    for (size_t i = 0; i < s->nboxes; i++, it++) {
-        const box_geom *g = &s->boxes[i].g;
-        item_init(it, PRIM_ID(PRIM_BOX, i));
-        for (int corner = 0; corner < 8; corner++) {
-            lc_vec3 p = g->q;
-            for (int e = 0; e < 3; e++)
-                if (corner & (1 << e))
-                    p = v3_add(p, g->e[e]);
-            grow(it->lo, it->hi, p);
+    for (int k = 0; k < LC_SHAPE_KINDS; k++) {
+        const shape_list *l = &s->shapes[k];
+        if (!shape_bounded((lc_shape_kind)k))
+            continue;
+        for (size_t i = 0; i < l->n; i++, it++) {
+            it->id = PRIM_ID(shape_prim_kind((lc_shape_kind)k), i);
+            shape_bounds((lc_shape_kind)k, shape_at(l, i), it->lo, it->hi);
         }
     }
     for (size_t i = 0; i < c->nflat; i++, it++) {
         const lc_mesh *m = s->meshes[c->tris[i].mesh].mesh;
         const uint32_t *ix = m->f + 3 * c->tris[i].face;
-        item_init(it, PRIM_ID(PRIM_TRIANGLE, i));
-        for (int j = 0; j < 3; j++) {     /* vertices are exact doubles: no ulp needed */
-            const double *v = m->v + 3 * ix[j];
-            for (int a = 0; a < 3; a++) {
-                float fl = bvh_down(v[a]), fh = bvh_up(v[a]);
-                if (fl < it->lo[a]) it->lo[a] = fl;
-                if (fh > it->hi[a]) it->hi[a] = fh;
-            }
-        }
+        it->id = PRIM_ID(PRIM_TRIANGLE, i);
+        tri_bounds(m->v + 3 * ix[0], m->v + 3 * ix[1], m->v + 3 * ix[2], it->lo, it->hi);
     }
     for (size_t i = 0; i < s->nmeshes; i++)
         if (s->meshes[i].xf) {
@@ -180,13 +123,11 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
         return lc_fail(err, LC_ENOMEM, NULL, "out of memory planning %zu materials",
                        s->nmaterials);
     unsigned char *used = c->plan;          /* 1 = in use, before the plans */
-#define MARK(arr, n) for (size_t i = 0; i < (n); i++) used[(arr)[i].material] = 1;
-    MARK(s->spheres, s->nspheres)
-    MARK(s->quads, s->nquads)
-    MARK(s->boxes, s->nboxes)
-    MARK(s->planes, s->nplanes)
-    MARK(s->meshes, s->nmeshes)
-#undef MARK
+    for (int k = 0; k < LC_SHAPE_KINDS; k++)
+        for (size_t i = 0; i < s->shapes[k].n; i++)
+            used[s->shapes[k].material[i]] = 1;
+    for (size_t i = 0; i < s->nmeshes; i++)
+        used[s->meshes[i].material] = 1;
     census lit = {0, 0}, spec = {0, 0}, refl = {0, 0}, gloss = {0, 0}, amb = {0, 0},
            inuse = {0, 0};
     for (size_t i = 0; i < s->nmaterials; i++) {

@@ -364,7 +364,7 @@ static inline double closest_face(void *ctx, uint32_t k, double tmax)
 }
 
 double instance_hit(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
-                    lc_hit *h, lc_counts *counts)
+                    lc_hit *h, bvh_counts *counts)
 {
     const mesh_prim *mp = &s->meshes[i];
     const mesh_bvh *mb = &s->blas[mp->blas];
@@ -391,7 +391,7 @@ static inline int any_face(void *ctx, uint32_t k, double tmax)
 }
 
 int instance_occluded(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
-                      lc_counts *counts)
+                      bvh_counts *counts)
 {
     const mesh_prim *mp = &s->meshes[i];
     const mesh_bvh *mb = &s->blas[mp->blas];

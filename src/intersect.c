@@ -2,6 +2,12 @@
 ** everything else through the BVH. */
 #include "scene.h"
 
+/* Each kind's prepared shapes, as the switches below read them. */
+#define SPHERES(s) ((const sphere_geom *)(s)->shapes[LC_SPHERE].geom)
+#define QUADS(s)   ((const quad_geom *)(s)->shapes[LC_QUAD].geom)
+#define BOXES(s)   ((const box_geom *)(s)->shapes[LC_BOX].geom)
+#define PLANES(s)  ((const plane_geom *)(s)->shapes[LC_PLANE].geom)
+
 typedef struct {
     const lc_ray *r;      /* a pointer: copying the ray stalled on store forwarding */
     bvh_ray   b;
@@ -21,20 +27,20 @@ static void query_init(query *q, const lc_ray *r, int triangles)
 ** later); quads and triangles need most of the work anyway to know they
 ** are hit, so they fill *full as they go. */
 static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, double tmax,
-                     lc_hit *full, lc_counts *inner)
+                     lc_hit *full, bvh_counts *inner)
 {
     uint32_t i = PRIM_INDEX(id);
     switch (PRIM_KIND(id)) {
     case PRIM_SPHERE:
-        return sphere_t(&s->spheres[i].g, q->r, 0, tmax);
+        return sphere_t(SPHERES(s) + i, q->r, 0, tmax);
     case PRIM_BOX:
-        return box_t(&s->boxes[i].g, q->r, q->b.inv, 0, tmax);
+        return box_t(BOXES(s) + i, q->r, q->b.inv, 0, tmax);
     case PRIM_PLANE:
-        return plane_t(&s->planes[i].g, q->r, q->b.inv, 0, tmax);
+        return plane_t(PLANES(s) + i, q->r, q->b.inv, 0, tmax);
     case PRIM_QUAD:
-        if (!quad_hit_inv(&s->quads[i].g, q->r, q->b.inv, 0, tmax, full))
+        if (!quad_hit_inv(QUADS(s) + i, q->r, q->b.inv, 0, tmax, full))
             return 0;
-        full->material = s->quads[i].material;
+        full->material = s->shapes[LC_QUAD].material[i];
         break;
     default: {
         const tri_ref *tr = &s->c.tris[i];
@@ -63,16 +69,16 @@ static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t,
     int ok;
     switch (PRIM_KIND(id)) {
     case PRIM_SPHERE:
-        ok = sphere_hit(&s->spheres[i].g, q->r, 0, tmax, h);
-        h->material = s->spheres[i].material;
+        ok = sphere_hit(SPHERES(s) + i, q->r, 0, tmax, h);
+        h->material = s->shapes[LC_SPHERE].material[i];
         break;
     case PRIM_BOX:
-        ok = box_hit_inv(&s->boxes[i].g, q->r, q->b.inv, 0, tmax, h);
-        h->material = s->boxes[i].material;
+        ok = box_hit_inv(BOXES(s) + i, q->r, q->b.inv, 0, tmax, h);
+        h->material = s->shapes[LC_BOX].material[i];
         break;
     case PRIM_PLANE:
-        ok = plane_hit_inv(&s->planes[i].g, q->r, q->b.inv, 0, tmax, h);
-        h->material = s->planes[i].material;
+        ok = plane_hit_inv(PLANES(s) + i, q->r, q->b.inv, 0, tmax, h);
+        h->material = s->shapes[LC_PLANE].material[i];
         break;
     default:
         return 1;                        /* already complete */
@@ -118,7 +124,7 @@ typedef struct {
     uint32_t best_id;
     lc_hit  *h, *tmp;       /* the nearest quad or triangle found; scratch */
     uint64_t np;            /* primitive tests */
-    lc_counts *inner;       /* inside instances */
+    bvh_counts *inner;       /* inside instances */
 } closest;
 
 /* Ties in t go to the lower id, whatever order the BVH visits them in. */
@@ -139,15 +145,17 @@ static inline double closest_leaf(void *ctx, uint32_t id, double tmax)
 }
 
 int scene_closest_n(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h,
-                    lc_counts *counts)
+                    bvh_counts *counts)
 {
-    lc_counts inner = {0, 0};
+    bvh_counts inner = {0, 0};
     lc_hit tmp;
     query q;
     query_init(&q, r, s->c.nflat > 0);
-    closest c = {s, &q, 0, 0, h, &tmp, s->nplanes, &inner};
-    for (size_t i = 0; i < s->nplanes; i++) {   /* planes first: they bound tmax */
-        double t = plane_t(&s->planes[i].g, q.r, q.b.inv, 0, tmax);
+    const plane_geom *planes = PLANES(s);
+    size_t nplanes = s->shapes[LC_PLANE].n;
+    closest c = {s, &q, 0, 0, h, &tmp, nplanes, &inner};
+    for (size_t i = 0; i < nplanes; i++) {      /* planes first: they bound tmax */
+        double t = plane_t(planes + i, q.r, q.b.inv, 0, tmax);
         if (t > 0 && (c.best == 0 || t < c.best)) {   /* in id order: a tie keeps the first */
             c.best = t;
             c.best_id = PRIM_ID(PRIM_PLANE, i);
@@ -182,7 +190,7 @@ static inline int any_leaf(void *ctx, uint32_t id, double tmax)
         return 0;
     ++a->np;
     if (PRIM_KIND(id) == PRIM_INSTANCE) {
-        lc_counts inner = {0, 0};
+        bvh_counts inner = {0, 0};
         int found = instance_occluded(a->s, PRIM_INDEX(id), a->r, tmax, &inner);
         a->np += inner.prims;
         a->nn += inner.nodes;
@@ -197,11 +205,14 @@ static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint32_t sk
 {
     query q;
     query_init(&q, r, s->c.nflat > 0);
-    for (size_t i = 0; i < s->nplanes; i++) {
-        ++*np;
-        if (plane_t(&s->planes[i].g, q.r, q.b.inv, 0, tmax) > 0)
+    const plane_geom *planes = PLANES(s);
+    size_t nplanes = s->shapes[LC_PLANE].n;
+    for (size_t i = 0; i < nplanes; i++)
+        if (plane_t(planes + i, q.r, q.b.inv, 0, tmax) > 0) {
+            *np += i + 1;
             return 1;
-    }
+        }
+    *np += nplanes;
     lc_hit tmp;
     any a = {s, &q, r, skip, &tmp, 0, 0};
     int found = bvh_any(&s->c.bvh, &q.b, tmax, &a, any_leaf, &a.nn);
@@ -210,13 +221,13 @@ static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint32_t sk
     return found;
 }
 
-int scene_occluded_n(const lc_scene *s, const lc_ray *r, double tmax, lc_counts *counts)
+int scene_occluded_n(const lc_scene *s, const lc_ray *r, double tmax, bvh_counts *counts)
 {
     return scene_occluded_skip(s, r, tmax, SCENE_SKIP_NONE, counts);
 }
 
 int scene_occluded_skip(const lc_scene *s, const lc_ray *r, double tmax, uint32_t skip,
-                        lc_counts *counts)
+                        bvh_counts *counts)
 {
     uint64_t np = 0, nn = 0;
     int found = occluded(s, r, tmax, skip, &np, &nn);

@@ -88,6 +88,9 @@ lc_status    lc_transform_inverse(const lc_transform *t, lc_transform *out, lc_e
 int          lc_transform_is_identity(const lc_transform *t);
 lc_vec3      lc_transform_point(const lc_transform *t, lc_vec3 p);   /* M p + t */
 lc_vec3      lc_transform_vector(const lc_transform *t, lc_vec3 v);  /* M v */
+/* A surface normal moved with its surface: sign(det M) cof(M) n, the inverse
+** transpose up to a positive factor (not unit), outward staying outward. */
+lc_vec3      lc_transform_normal(const lc_transform *t, lc_vec3 n);
 /* The shape moved by t, exactly where affine maps keep its kind: quads and
 ** boxes (corner and edges), planes (point; normal by the inverse transpose),
 ** spheres under rotation, translation and uniform scale. A sphere under a
@@ -278,6 +281,8 @@ typedef struct {
     void    *progress_ud;
 } lc_render_options;
 
+#define LC_MAX_SAMPLES (1 << 20)      /* camera samples per pixel */
+#define LC_MAX_THREADS 256
 #define LC_MAX_SIDE   65536
 #define LC_MAX_PIXELS ((size_t)1 << 28)  /* 268M pixels, 3 GiB of floats */
 

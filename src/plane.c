@@ -1,5 +1,14 @@
-/* plane.c: ray/infinite-plane hit, and snapping points onto a plane. */
-#include "geom.h"
+/* plane.c: infinite planes: checks, moving, the hit, and snapping points onto
+** a plane (which quads share). */
+#include "shape.h"
+#include "validate.h"
+
+lc_status plane_check(const lc_shape *s, lc_error *err)
+{
+    if (validate_vec(s->p, "point", err) || validate_nonzero(s->u, "normal", err))
+        return LC_EARG;
+    return LC_OK;
+}
 
 static int axis_of(lc_vec3 n)
 {
@@ -21,6 +30,28 @@ void plane_prepare(const lc_shape *s, plane_geom *g)
     /* After the normal is final: (0, 49, 0) normalises to 1 - 2^-53, and a
     ** k from that made rays leaving the plane y = 1 hit it again. */
     g->k = v3_dot(g->n, g->p);
+}
+
+void plane_describe(const plane_geom *g, lc_shape *s)
+{
+    s->p = g->p;
+    s->u = g->n;
+}
+
+/* The point moves as a point, the normal by the inverse transpose. */
+lc_status plane_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
+                          lc_error *err)
+{
+    (void)err;
+    *out = *s;
+    out->p = lc_transform_point(t, s->p);
+    out->u = lc_transform_normal(t, s->u);
+    return LC_OK;
+}
+
+void plane_scale(lc_shape *s, double k, lc_vec3 offset)
+{
+    s->p = v3(s->p.x * k + offset.x, s->p.y * k + offset.y, s->p.z * k + offset.z);
 }
 
 /* p = o + t d carries an error proportional to t, which near the horizon is
@@ -71,15 +102,3 @@ int plane_hit_inv(const plane_geom *g, const lc_ray *r, const double *inv, doubl
     return 1;
 }
 
-lc_status lc_shape_stored(const lc_shape *s, lc_shape *out, lc_error *err)
-{
-    if (lc_shape_check(s, err))
-        return LC_EARG;
-    *out = *s;
-    if (s->kind == LC_PLANE) {
-        plane_geom g;
-        plane_prepare(s, &g);
-        out->u = g.n;
-    }
-    return LC_OK;
-}

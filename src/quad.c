@@ -1,5 +1,16 @@
-/* quad.c: ray/parallelogram hit (the seed's bounded plane). */
-#include "geom.h"
+/* quad.c: parallelograms (the seed's bounded planes): checks, moving, bounds,
+** the hit, and sampling one as a light (by area). */
+#include "bvh.h"
+#include "shape.h"
+#include "validate.h"
+
+lc_status quad_check(const lc_shape *s, lc_error *err)
+{
+    if (validate_vec(s->p, "corner", err) || validate_nonzero(s->u, "u", err) ||
+        validate_nonzero(s->v, "v", err) || validate_not_parallel(s->u, s->v, "u", "v", err))
+        return LC_EARG;
+    return LC_OK;
+}
 
 void quad_prepare(const lc_shape *s, quad_geom *g)
 {
@@ -14,6 +25,42 @@ void quad_prepare(const lc_shape *s, quad_geom *g)
     if (g->n.y == 0 && g->n.z == 0) g->axis = 0;
     else if (g->n.x == 0 && g->n.z == 0) g->axis = 1;
     else if (g->n.x == 0 && g->n.y == 0) g->axis = 2;
+}
+
+void quad_describe(const quad_geom *g, lc_shape *s)
+{
+    s->p = g->q;
+    s->u = g->u;
+    s->v = g->v;
+}
+
+/* Exact under any affine map: the corner is a point, the edges vectors. */
+lc_status quad_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
+                         lc_error *err)
+{
+    (void)err;
+    *out = *s;
+    out->p = lc_transform_point(t, s->p);
+    out->u = lc_transform_vector(t, s->u);
+    out->v = lc_transform_vector(t, s->v);
+    out->w = lc_transform_vector(t, s->w);
+    return LC_OK;
+}
+
+void quad_scale(lc_shape *s, double k, lc_vec3 offset)
+{
+    s->p = v3(s->p.x * k + offset.x, s->p.y * k + offset.y, s->p.z * k + offset.z);
+    s->u = v3_mul(s->u, k);
+    s->v = v3_mul(s->v, k);
+}
+
+void quad_bounds(const quad_geom *g, float lo[3], float hi[3])
+{
+    bvh_bounds_empty(lo, hi);
+    bvh_bounds_grow(lo, hi, g->q);
+    bvh_bounds_grow(lo, hi, v3_add(g->q, g->u));
+    bvh_bounds_grow(lo, hi, v3_add(g->q, g->v));
+    bvh_bounds_grow(lo, hi, v3_add(v3_add(g->q, g->u), g->v));
 }
 
 /* Bounds are inclusive (0 <= alpha, beta <= 1), so a ray through an edge or
@@ -43,5 +90,37 @@ int quad_hit_inv(const quad_geom *g, const lc_ray *r, const double *inv, double 
     h->p = p;
     h->perr = perr;
     h->n = g->un;
+    return 1;
+}
+
+/* ---- as a light ------------------------------------------------------------------ */
+
+/* The seed's model: the quad's projected area over d^2, over pi. */
+double quad_light_centre(const quad_geom *g, lc_vec3 l, double d)
+{
+    return fabs(v3_dot(g->n, l)) / (PI * d * d);
+}
+
+int quad_light_begin(const quad_geom *g, lc_vec3 p, quad_light *ql)
+{
+    if (v3_dot(v3_sub(p, g->q), g->n) == 0)        /* in the light's plane */
+        return 0;
+    ql->area = v3_len(g->n);
+    return 1;
+}
+
+/* Uniform over its area (pdf 1 / A): the solid angle a sample stands for
+** is |n_l . l| A / d^2. */
+int quad_light_sample(const quad_geom *g, const quad_light *ql, lc_vec3 p,
+                      const double u[2], uint32_t S, light_sample *out)
+{
+    lc_vec3 q = v3_madd(v3_madd(g->q, g->u, u[0]), g->v, u[1]);
+    lc_vec3 tq = v3_sub(q, p);
+    double d2 = v3_dot(tq, tq), dist = sqrt(d2);
+    if (!(dist > 0))
+        return 0;
+    out->l = v3_mul(tq, 1 / dist);
+    out->k = ql->area * fabs(v3_dot(g->n, out->l)) / ql->area / (PI * d2 * S);
+    out->dist = dist * (1 - SHADOW_SHORTEN);
     return 1;
 }

@@ -14,26 +14,6 @@
 #include "clock.h"
 
 #define TILE 16
-#define MAX_THREADS 256
-#define MAX_SAMPLES (1 << 20)
-
-lc_render_options lc_render_options_default(void)
-{
-    lc_render_options o;
-    memset(&o, 0, sizeof o);
-    o.width = 640;
-    o.height = 480;
-    o.samples = 1;
-    o.sampler = LC_SAMPLER_SOBOL;
-    o.light_samples = 16;
-    o.max_depth = -1;
-    o.min_samples = 16;
-    o.glossy = 1;
-    o.cosine = 1;
-    o.cutoff = 1.0 / 255;   /* POV-Ray's adc_bailout: below one step of 8-bit output */
-    o.shadows = o.reflections = o.specular = 1;
-    return o;
-}
 
 static const char *const ray_names[LC_RAY_KINDS] = {"camera", "shadow", "reflection",
                                                      "glossy", "light", "cut"};
@@ -57,8 +37,6 @@ const char *lc_need_name(unsigned need)
     default: return "?";
     }
 }
-
-#define check_options lc_render_options_check
 
 typedef struct {
     const lc_render_options *o;
@@ -169,7 +147,7 @@ lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y
 {
     *records = NULL;
     *n = 0;
-    if (check_options(o, err))
+    if (lc_render_options_check(o, err))
         return LC_EARG;
     if (x < 0 || x >= o->width || y < 0 || y >= o->height)
         return lc_fail(err, LC_EARG, x < 0 || x >= o->width ? "x" : "y",
@@ -225,47 +203,6 @@ static void *work(void *arg)
     pthread_cond_signal(&j->tile_done);
     pthread_mutex_unlock(&j->lock);
     return NULL;
-}
-
-lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
-{
-    if (o->width < 1 || o->width > LC_MAX_SIDE)
-        return lc_fail(err, LC_EARG, "width", "must be in [1, %d], got %d", LC_MAX_SIDE,
-                       o->width);
-    if (o->height < 1 || o->height > LC_MAX_SIDE)
-        return lc_fail(err, LC_EARG, "height", "must be in [1, %d], got %d", LC_MAX_SIDE,
-                       o->height);
-    if ((size_t)o->width * (size_t)o->height > LC_MAX_PIXELS)
-        return lc_fail(err, LC_EARG, "width", "%dx%d is more than %zu pixels",
-                       o->width, o->height, LC_MAX_PIXELS);
-    if (o->samples < 1 || o->samples > MAX_SAMPLES)
-        return lc_fail(err, LC_EARG, "samples", "must be in [1, %d], got %d", MAX_SAMPLES,
-                       o->samples);
-    if ((unsigned)o->sampler > LC_SAMPLER_RANDOM)
-        return lc_fail(err, LC_EARG, "sampler", "unknown sampler %d", (int)o->sampler);
-    if (o->light_samples < 0 || o->light_samples > LC_MAX_LIGHT_SAMPLES)
-        return lc_fail(err, LC_EARG, "light_samples", "must be in [0, %d], got %d",
-                       LC_MAX_LIGHT_SAMPLES, o->light_samples);
-    if (o->cone_samples < 0 || o->cone_samples > LC_MAX_CONE_SAMPLES)
-        return lc_fail(err, LC_EARG, "cone_samples", "must be in [0, %d], got %d",
-                       LC_MAX_CONE_SAMPLES, o->cone_samples);
-    if (o->max_depth < -1 || o->max_depth > LC_MAX_DEPTH)
-        return lc_fail(err, LC_EARG, "max_depth", "must be in [0, %d], got %d",
-                       LC_MAX_DEPTH, o->max_depth);
-    if (!(o->noise >= 0 && o->noise <= HUGE_VAL) || isinf(o->noise))
-        return lc_fail(err, LC_EARG, "noise", "must be finite and >= 0, got %g", o->noise);
-    if (o->noise > 0 && o->sampler == LC_SAMPLER_JITTER)
-        return lc_fail(err, LC_EARG, "sampler", "adaptive sampling (noise > 0) stops after "
-                       "any number of samples: it needs 'sobol' or 'random', not 'jitter'");
-    if (o->min_samples < 1 || o->min_samples > MAX_SAMPLES)
-        return lc_fail(err, LC_EARG, "min_samples", "must be in [1, %d], got %d",
-                       MAX_SAMPLES, o->min_samples);
-    if (!(o->cutoff >= 0 && o->cutoff <= 1))
-        return lc_fail(err, LC_EARG, "cutoff", "must be in [0, 1], got %g", o->cutoff);
-    if (o->threads < 0 || o->threads > MAX_THREADS)
-        return lc_fail(err, LC_EARG, "threads", "must be in [0, %d], got %d", MAX_THREADS,
-                       o->threads);
-    return LC_OK;
 }
 
 /* lc_interrupt() bumps this from a signal handler; a render cancels when it
@@ -353,7 +290,7 @@ static void warn(const lc_scene *s, const lc_image *img, lc_stats *st)
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
                           lc_error *err)
 {
-    if (check_options(o, err))
+    if (lc_render_options_check(o, err))
         return NULL;
     if (!s->has_camera) {
         lc_fail(err, LC_EARG, "camera", "the scene has no camera");
@@ -382,7 +319,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     int nt = o->threads;
     if (nt == 0) {
         long nc = sysconf(_SC_NPROCESSORS_ONLN);
-        nt = nc < 1 ? 1 : nc > MAX_THREADS ? MAX_THREADS : (int)nc;
+        nt = nc < 1 ? 1 : nc > LC_MAX_THREADS ? LC_MAX_THREADS : (int)nc;
     }
     if (nt > j.ntiles)
         nt = j.ntiles;
@@ -434,7 +371,9 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     sum.seconds = t2 - t0;
     sum.needs = s->c.needs;
     sum.bvh_nodes = s->c.bvh.nnodes;
-    sum.primitives = s->nspheres + s->nquads + s->nboxes + s->nplanes + s->c.ntris;
+    sum.primitives = s->c.ntris;
+    for (int k = 0; k < LC_SHAPE_KINDS; k++)
+        sum.primitives += s->shapes[k].n;
     sum.degenerate = s->c.degenerate;
     memcpy(sum.why, s->c.why, sizeof sum.why);
     sum.threads = threads;

@@ -5,6 +5,7 @@
 #include <math.h>
 #include "lancer.h"
 #include "rng.h"
+#include "vec.h"
 
 /* A pixel's sample set is keyed by (seed, frame, pixel); inside it, each 2D
 ** dimension (pixel area, lens, the cone at depth d, emitter e at depth d...)
@@ -178,6 +179,30 @@ static inline uint32_t nested_count(uint32_t outer, uint32_t inner)
 {
     uint64_t n = (uint64_t)outer * inner;
     return n > (1u << 31) ? 1u << 31 : (uint32_t)n;
+}
+
+/* ---- Directions from points of the unit square ---------------------------------- */
+
+/* An orthonormal frame around unit a, without a singular direction (Duff et
+** al., Building an Orthonormal Basis, Revisited, JCGT 2017). */
+static inline void sample_frame(lc_vec3 a, lc_vec3 *b1, lc_vec3 *b2)
+{
+    double sg = copysign(1.0, a.z), k = -1 / (sg + a.z), b = a.x * a.y * k;
+    *b1 = v3(1 + sg * a.x * a.x * k, sg * b, -sg * a.x);
+    *b2 = v3(b, sg + a.y * a.y * k, -a.y);
+}
+
+/* A direction uniform in solid angle inside the cone of unit axis a whose
+** half-angle has 1 - cos = omc (passed as such: no cancellation for tiny
+** cones; NUMERICS.md 1.11). */
+static inline lc_vec3 sample_cone(lc_vec3 a, double omc, const double u[2])
+{
+    double one_minus = u[0] * omc, c = 1 - one_minus;
+    double sn = sqrt(fmax(0, one_minus * (2 - one_minus)));
+    double phi = 2 * PI * u[1];
+    lc_vec3 b1, b2;
+    sample_frame(a, &b1, &b2);
+    return v3_norm(v3_madd(v3_madd(v3_mul(a, c), b1, sn * cos(phi)), b2, sn * sin(phi)));
 }
 
 #endif

@@ -45,10 +45,11 @@ void lc_scene_free(lc_scene *s)
     }
     free(s->light_ids);
     free(s->materials);
-    free(s->spheres);
-    free(s->quads);
-    free(s->boxes);
-    free(s->planes);
+    for (int k = 0; k < LC_SHAPE_KINDS; k++) {
+        free(s->shapes[k].geom);
+        free(s->shapes[k].material);
+        free(s->shapes[k].id);
+    }
     free(s->meshes);
     free(s->emitters);
     free(s->lights);
@@ -114,87 +115,52 @@ static int check_material(const lc_scene *s, int material, lc_error *err)
     return 1;
 }
 
-static void make_emitter(const lc_shape *sh, uint32_t id, const lc_material *m, emitter *e)
+/* Makes room for one more shape in l, whose three arrays grow together. */
+static int shape_list_grow(shape_list *l)
 {
-    memset(e, 0, sizeof *e);
-    e->shape = id;
-    e->kind = sh->kind;
-    e->emission = m->emission;
-    if (sh->kind == LC_SPHERE) {
-        e->target = sh->p;
-        e->radius = sh->radius;
-        return;
-    }
-    e->corner = sh->p;
-    e->edge[0] = sh->u;
-    e->edge[1] = sh->v;
-    e->edge[2] = sh->w;
-    if (sh->kind == LC_QUAD) {
-        e->target = v3_add(sh->p, v3_mul(v3_add(sh->u, sh->v), 0.5));
-        e->area[0] = v3_cross(sh->u, sh->v);
-    } else {
-        e->target = v3_add(sh->p, v3_mul(v3_add(v3_add(sh->u, sh->v), sh->w), 0.5));
-        e->area[0] = v3_cross(sh->v, sh->w);
-        e->area[1] = v3_cross(sh->w, sh->u);
-        e->area[2] = v3_cross(sh->u, sh->v);
-    }
+    if (l->n < l->cap)
+        return 1;
+    size_t nc = l->cap ? l->cap * 2 : 16;
+    if (nc > PRIM_MAX || nc > ((size_t)-1) / l->size)
+        return 0;
+    unsigned char *g = realloc(l->geom, nc * l->size);
+    if (g)
+        l->geom = g;
+    int *m = g ? realloc(l->material, nc * sizeof *m) : NULL;
+    if (m)
+        l->material = m;
+    int *id = m ? realloc(l->id, nc * sizeof *id) : NULL;
+    if (!id)
+        return 0;
+    l->id = id;
+    l->cap = nc;
+    return 1;
 }
 
 int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *err)
 {
     if (lc_shape_check(sh, err) || !check_material(s, material, err))
         return -1;
-    int ok;
-    uint32_t id = 0;
-    switch (sh->kind) {
-    case LC_SPHERE:
-        ok = s->nspheres < PRIM_MAX && GROW(s, spheres);
-        if (ok) {
-            sphere_prepare(sh, &s->spheres[s->nspheres].g);
-            s->spheres[s->nspheres].id = s->next_id;
-            s->spheres[s->nspheres].material = material;
-            id = PRIM_ID(PRIM_SPHERE, s->nspheres++);
-        }
-        break;
-    case LC_QUAD:
-        ok = s->nquads < PRIM_MAX && GROW(s, quads);
-        if (ok) {
-            quad_prepare(sh, &s->quads[s->nquads].g);
-            s->quads[s->nquads].id = s->next_id;
-            s->quads[s->nquads].material = material;
-            id = PRIM_ID(PRIM_QUAD, s->nquads++);
-        }
-        break;
-    case LC_BOX:
-        ok = s->nboxes < PRIM_MAX && GROW(s, boxes);
-        if (ok) {
-            box_prepare(sh, &s->boxes[s->nboxes].g);
-            s->boxes[s->nboxes].id = s->next_id;
-            s->boxes[s->nboxes].material = material;
-            id = PRIM_ID(PRIM_BOX, s->nboxes++);
-        }
-        break;
-    default:
-        ok = s->nplanes < PRIM_MAX && GROW(s, planes);
-        if (ok) {
-            plane_prepare(sh, &s->planes[s->nplanes].g);
-            s->planes[s->nplanes].id = s->next_id;
-            s->planes[s->nplanes].material = material;
-            id = PRIM_ID(PRIM_PLANE, s->nplanes++);
-        }
-        break;
-    }
-    if (!ok) {
+    shape_list *l = &s->shapes[sh->kind];
+    l->size = shape_geom_size(sh->kind);
+    const lc_material *m = &s->materials[material];
+    int emits = shape_can_emit(sh->kind) && !c_is_black(m->emission);
+    if (l->n >= PRIM_MAX || !shape_list_grow(l) || (emits && !GROW(s, emitters))) {
         lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a shape");
         return -1;
     }
-    const lc_material *m = &s->materials[material];
-    if (sh->kind != LC_PLANE && !c_is_black(m->emission)) {
-        if (!GROW(s, emitters)) {
-            lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a shape");
-            return -1;
-        }
-        make_emitter(sh, id, m, &s->emitters[s->nemitters++]);
+    size_t i = l->n++;
+    void *geom = l->geom + i * l->size;
+    shape_prepare(sh, geom);
+    l->material[i] = material;
+    l->id[i] = s->next_id;
+    if (emits) {
+        emitter *e = &s->emitters[s->nemitters++];
+        e->kind = sh->kind;
+        e->index = (uint32_t)i;
+        e->prim = PRIM_ID(shape_prim_kind(sh->kind), i);
+        e->target = shape_light_target(sh->kind, geom);
+        e->emission = m->emission;
     }
     s->c.valid = 0;
     s->nshapes++;
@@ -311,31 +277,16 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
     for (size_t i = 0; i < s->nmaterials; i++)
         if (lc_scene_add_material(c, &s->materials[i], err) < 0)
             goto fail;
-    for (size_t i = 0; i < s->nspheres; i++) {
-        lc_shape sh = {LC_SPHERE, move(s->spheres[i].g.c, scale, t), {0, 0, 0}, {0, 0, 0},
-                       {0, 0, 0}, s->spheres[i].g.r * scale};
-        if (lc_scene_add_shape(c, &sh, s->spheres[i].material, err) < 0)
-            goto fail;
-    }
-    for (size_t i = 0; i < s->nquads; i++) {
-        const quad_geom *g = &s->quads[i].g;
-        lc_shape sh = {LC_QUAD, move(g->q, scale, t), v3_mul(g->u, scale), v3_mul(g->v, scale),
-                       {0, 0, 0}, 0};
-        if (lc_scene_add_shape(c, &sh, s->quads[i].material, err) < 0)
-            goto fail;
-    }
-    for (size_t i = 0; i < s->nboxes; i++) {
-        const box_geom *g = &s->boxes[i].g;
-        lc_shape sh = {LC_BOX, move(g->q, scale, t), v3_mul(g->e[0], scale),
-                       v3_mul(g->e[1], scale), v3_mul(g->e[2], scale), 0};
-        if (lc_scene_add_shape(c, &sh, s->boxes[i].material, err) < 0)
-            goto fail;
-    }
-    for (size_t i = 0; i < s->nplanes; i++) {
-        const plane_geom *g = &s->planes[i].g;
-        lc_shape sh = {LC_PLANE, move(g->p, scale, t), g->n, {0, 0, 0}, {0, 0, 0}, 0};
-        if (lc_scene_add_shape(c, &sh, s->planes[i].material, err) < 0)
-            goto fail;
+    for (int k = 0; k < LC_SHAPE_KINDS; k++) {
+        const shape_list *l = &s->shapes[k];
+        for (size_t i = 0; i < l->n; i++) {
+            lc_shape sh;
+            memset(&sh, 0, sizeof sh);
+            shape_describe((lc_shape_kind)k, shape_at(l, i), &sh);
+            shape_scale(&sh, scale, t);
+            if (lc_scene_add_shape(c, &sh, l->material[i], err) < 0)
+                goto fail;
+        }
     }
     for (size_t i = 0; i < s->nmeshes; i++) {
         const lc_mesh *src = s->meshes[i].mesh;

@@ -3,25 +3,8 @@
 #define LC_SCENE_H
 
 #include "bvh.h"
-#include "geom.h"
 #include "mesh.h"
-
-/* A primitive's id: its kind in the top 3 bits, its index in that kind's
-** array below. Ids order ties between equally near hits. */
-enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
-       PRIM_INSTANCE };     /* a moved mesh: only in BVH refs, never in a hit */
-#define PRIM_ID(kind, index) (((uint32_t)(kind) << 29) | (uint32_t)(index))
-#define PRIM_KIND(id)        ((unsigned)((id) >> 29))
-#define PRIM_INDEX(id)       ((id) & 0x1fffffffu)
-#define PRIM_MAX             ((size_t)1 << 29)
-
-/* Shapes are prepared when added: the render reads them as they are. `id`
-** is what lc_scene_add_* returned (ids grow with each add, so every array
-** below is sorted by id); it fits in the structs' padding. */
-typedef struct { sphere_geom g; int material, id; } sphere_prim;
-typedef struct { quad_geom g;   int material, id; } quad_prim;
-typedef struct { box_geom g;    int material, id; } box_prim;
-typedef struct { plane_geom g;  int material, id; } plane_prim;
+#include "shape.h"
 
 /* A mesh moved by a transform (instance.c): what a hit needs to go from
 ** object space to the world and back, derived once when it is added. */
@@ -61,26 +44,13 @@ typedef struct {
 ** names a triangle like any other. */
 typedef struct { uint32_t mesh, face; } tri_ref;
 
-/* An emissive shape used as a light (the seed's model): it lights a point
-** when the ray toward `target` meets nothing before the emitter itself. */
-typedef struct {
-    uint32_t shape;      /* PRIM_ID */
-    lc_shape_kind kind;
-    lc_vec3  target;     /* sphere centre, quad or box centre */
-    double   radius;     /* sphere */
-    lc_vec3  corner;     /* quad and box: as given */
-    lc_vec3  edge[3];    /* quad: u, v; box: u, v, w */
-    lc_vec3  area[3];    /* quad: u x v; box: v x w, w x u, u x v (projected area) */
-    lc_color emission;
-} emitter;
-
 /* What one render reads and never writes. */
 typedef struct {
     tri_ref *tris;
     size_t   ntris, degenerate;
     size_t   nflat;        /* tris[0, nflat) are in bvh; the rest are instances' */
     size_t   ninstances;   /* moved meshes, as BVH primitives */
-    bvh      bvh;          /* over spheres, quads, boxes and triangles */
+    bvh      bvh;          /* over the bounded shapes, triangles and instances */
     unsigned needs;        /* LC_NEED_* */
     int      depth;        /* the render's max_depth: its own or the scene's */
     unsigned char *plan;   /* per material, PLAN_* below: decided once per render */
@@ -102,10 +72,7 @@ struct lc_scene {
     int        *light_ids;         /* lights[i] has id light_ids[i] */
     SCENE_ARRAY(mesh_bvh, blas);   /* instanced meshes' BVHs, kept across compiles */
     SCENE_ARRAY(lc_material, materials);
-    SCENE_ARRAY(sphere_prim, spheres);
-    SCENE_ARRAY(quad_prim, quads);
-    SCENE_ARRAY(box_prim, boxes);
-    SCENE_ARRAY(plane_prim, planes);
+    shape_list  shapes[LC_SHAPE_KINDS];   /* by kind, each sorted by id */
     SCENE_ARRAY(mesh_prim, meshes);
     SCENE_ARRAY(emitter, emitters);
     SCENE_ARRAY(lc_point_light, lights);
@@ -140,26 +107,23 @@ void      instances_free(lc_scene *s);            /* the cache, at scene free */
 void      instance_bounds(const lc_scene *s, size_t i, float lo[3], float hi[3]);
 lc_status instance_xf_make(const lc_transform *t, instance_xf *x, lc_error *err);
 
-/* Intersection work, counted per thread: primitive and BVH node tests. */
-typedef struct { uint64_t prims, nodes; } lc_counts;
-
 /* instance.c: the nearest hit on the instance mesh_prim i in (0, tmax), in
 ** world space (its distance, 0 for none); any hit. Both count their tests. */
 double instance_hit(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
-                    lc_hit *h, lc_counts *counts);
+                    lc_hit *h, bvh_counts *counts);
 int    instance_occluded(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
-                         lc_counts *counts);
+                         bvh_counts *counts);
 
 /* Nearest hit with 0 < t < tmax; 1 if any. counts may be NULL. */
 int scene_closest_n(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h,
-                    lc_counts *counts);
+                    bvh_counts *counts);
 /* 1 if anything lies on the ray with 0 < t < tmax. counts may be NULL. */
-int scene_occluded_n(const lc_scene *s, const lc_ray *r, double tmax, lc_counts *counts);
+int scene_occluded_n(const lc_scene *s, const lc_ray *r, double tmax, bvh_counts *counts);
 /* The same, but primitive `skip` (a PRIM_ID, never a plane) is not there:
 ** a shadow ray toward a point sampled on an emitter cannot be blocked by
 ** that emitter, whatever the rounding of its own surface. */
 int scene_occluded_skip(const lc_scene *s, const lc_ray *r, double tmax, uint32_t skip,
-                        lc_counts *counts);
+                        bvh_counts *counts);
 #define SCENE_SKIP_NONE 0xffffffffu     /* kind 7: no primitive has this id */
 #define scene_closest(s, r, tmax, h) scene_closest_n((s), (r), (tmax), (h), NULL)
 #define scene_occluded(s, r, tmax)   scene_occluded_n((s), (r), (tmax), NULL)

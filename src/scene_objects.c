@@ -4,72 +4,38 @@
 #include "error.h"
 #include "scene.h"
 
-/* Ids grow with each add, and removal keeps the order, so each kind's array
-** is sorted by id: a binary search finds an object. */
-#define FIND(arr, n, id_, out)                                         \
-    do {                                                               \
-        size_t lo_ = 0, hi_ = (n);                                     \
-        while (lo_ < hi_) {                                            \
-            size_t mid_ = lo_ + (hi_ - lo_) / 2;                       \
-            if ((arr)[mid_].id < (id_)) lo_ = mid_ + 1; else hi_ = mid_; \
-        }                                                              \
-        (out) = lo_ < (n) && (arr)[lo_].id == (id_) ? (long)lo_ : -1;  \
-    } while (0)
-
-static long find_light(const lc_scene *s, int id)
+/* Ids grow with each add, and removal keeps the order, so every list is
+** sorted by id: a binary search finds an object. Returns its index or -1. */
+static long find_id(const int *ids, size_t n, int id)
 {
-    size_t lo = 0, hi = s->nlights;
+    size_t lo = 0, hi = n;
     while (lo < hi) {
         size_t mid = lo + (hi - lo) / 2;
-        if (s->light_ids[mid] < id) lo = mid + 1; else hi = mid;
+        if (ids[mid] < id) lo = mid + 1; else hi = mid;
     }
-    return lo < s->nlights && s->light_ids[lo] == id ? (long)lo : -1;
+    return lo < n && ids[lo] == id ? (long)lo : -1;
+}
+
+static long find_mesh(const lc_scene *s, int id)
+{
+    size_t lo = 0, hi = s->nmeshes;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (s->meshes[mid].id < id) lo = mid + 1; else hi = mid;
+    }
+    return lo < s->nmeshes && s->meshes[lo].id == id ? (long)lo : -1;
 }
 
 size_t lc_scene_object_count(const lc_scene *s) { return s->nshapes + s->nlights; }
 
-static void shape_object(lc_object *o, int kind, const void *prim)
+static void shape_object(lc_object *o, const lc_scene *s, lc_shape_kind kind, size_t i)
 {
+    const shape_list *l = &s->shapes[kind];
     memset(&o->shape, 0, sizeof o->shape);
     o->kind = LC_OBJECT_SHAPE;
-    o->shape.kind = (lc_shape_kind)kind;
-    switch (kind) {
-    case LC_SPHERE: {
-        const sphere_prim *p = prim;
-        o->shape.p = p->g.c;
-        o->shape.radius = p->g.r;
-        o->id = p->id;
-        o->material = p->material;
-        break;
-    }
-    case LC_QUAD: {
-        const quad_prim *p = prim;
-        o->shape.p = p->g.q;
-        o->shape.u = p->g.u;
-        o->shape.v = p->g.v;
-        o->id = p->id;
-        o->material = p->material;
-        break;
-    }
-    case LC_BOX: {
-        const box_prim *p = prim;
-        o->shape.p = p->g.q;
-        o->shape.u = p->g.e[0];
-        o->shape.v = p->g.e[1];
-        o->shape.w = p->g.e[2];
-        o->id = p->id;
-        o->material = p->material;
-        break;
-    }
-    default: {
-        const plane_prim *p = prim;
-        o->shape.p = p->g.p;
-        o->shape.u = p->g.n;
-        o->id = p->id;
-        o->material = p->material;
-        break;
-    }
-    }
+    o->id = l->id[i];
+    o->material = l->material[i];
+    shape_describe(kind, shape_at(l, i), &o->shape);
 }
 
 static void mesh_object(lc_object *o, const mesh_prim *p)
@@ -90,21 +56,30 @@ static void light_object(lc_object *o, const lc_scene *s, size_t i)
     o->light = s->lights[i];
 }
 
-/* The six sorted lists merged by id. */
+/* The sorted lists merged by id: one per shape kind, then meshes, lights. */
+enum { LIST_MESHES = LC_SHAPE_KINDS, LIST_LIGHTS, LISTS };
+
+static size_t list_len(const lc_scene *s, int j)
+{
+    return j < LC_SHAPE_KINDS ? s->shapes[j].n : j == LIST_MESHES ? s->nmeshes : s->nlights;
+}
+
+static int list_id(const lc_scene *s, int j, size_t i)
+{
+    return j < LC_SHAPE_KINDS ? s->shapes[j].id[i] : j == LIST_MESHES ? s->meshes[i].id
+                                                                      : s->light_ids[i];
+}
+
 size_t lc_scene_objects(const lc_scene *s, lc_object *out, size_t n)
 {
-    size_t at[6] = {0, 0, 0, 0, 0, 0};
-    size_t len[6] = {s->nspheres, s->nquads, s->nboxes, s->nplanes, s->nmeshes, s->nlights};
+    size_t at[LISTS] = {0};
     size_t total = lc_scene_object_count(s);
     for (size_t k = 0; k < n && k < total; k++) {
         int best = -1, best_id = 0;
-        for (int j = 0; j < 6; j++) {
-            if (at[j] == len[j])
+        for (int j = 0; j < LISTS; j++) {
+            if (at[j] == list_len(s, j))
                 continue;
-            size_t i = at[j];
-            int id = j == 0 ? s->spheres[i].id : j == 1 ? s->quads[i].id :
-                     j == 2 ? s->boxes[i].id : j == 3 ? s->planes[i].id :
-                     j == 4 ? s->meshes[i].id : s->light_ids[i];
+            int id = list_id(s, j, at[j]);
             if (best < 0 || id < best_id) {
                 best = j;
                 best_id = id;
@@ -113,14 +88,12 @@ size_t lc_scene_objects(const lc_scene *s, lc_object *out, size_t n)
         lc_object *o = &out[k];
         memset(o, 0, sizeof *o);
         size_t i = at[best]++;
-        switch (best) {
-        case 0: shape_object(o, LC_SPHERE, &s->spheres[i]); break;
-        case 1: shape_object(o, LC_QUAD, &s->quads[i]); break;
-        case 2: shape_object(o, LC_BOX, &s->boxes[i]); break;
-        case 3: shape_object(o, LC_PLANE, &s->planes[i]); break;
-        case 4: mesh_object(o, &s->meshes[i]); break;
-        default: light_object(o, s, i); break;
-        }
+        if (best < LC_SHAPE_KINDS)
+            shape_object(o, s, (lc_shape_kind)best, i);
+        else if (best == LIST_MESHES)
+            mesh_object(o, &s->meshes[i]);
+        else
+            light_object(o, s, i);
     }
     return total;
 }
@@ -129,18 +102,16 @@ lc_status lc_scene_object(const lc_scene *s, int id, lc_object *out, lc_error *e
 {
     long i;
     memset(out, 0, sizeof *out);
-    FIND(s->spheres, s->nspheres, id, i);
-    if (i >= 0) return shape_object(out, LC_SPHERE, &s->spheres[i]), lc_ok(err), LC_OK;
-    FIND(s->quads, s->nquads, id, i);
-    if (i >= 0) return shape_object(out, LC_QUAD, &s->quads[i]), lc_ok(err), LC_OK;
-    FIND(s->boxes, s->nboxes, id, i);
-    if (i >= 0) return shape_object(out, LC_BOX, &s->boxes[i]), lc_ok(err), LC_OK;
-    FIND(s->planes, s->nplanes, id, i);
-    if (i >= 0) return shape_object(out, LC_PLANE, &s->planes[i]), lc_ok(err), LC_OK;
-    FIND(s->meshes, s->nmeshes, id, i);
-    if (i >= 0) return mesh_object(out, &s->meshes[i]), lc_ok(err), LC_OK;
-    i = find_light(s, id);
-    if (i >= 0) return light_object(out, s, (size_t)i), lc_ok(err), LC_OK;
+    for (int k = 0; k < LC_SHAPE_KINDS; k++)
+        if ((i = find_id(s->shapes[k].id, s->shapes[k].n, id)) >= 0) {
+            shape_object(out, s, (lc_shape_kind)k, (size_t)i);
+            lc_ok(err);
+            return LC_OK;
+        }
+    if ((i = find_mesh(s, id)) >= 0)
+        return mesh_object(out, &s->meshes[i]), lc_ok(err), LC_OK;
+    if ((i = find_id(s->light_ids, s->nlights, id)) >= 0)
+        return light_object(out, s, (size_t)i), lc_ok(err), LC_OK;
     return lc_fail(err, LC_EARG, "id", "no object %d in this scene (%s)", id,
                    id >= 0 && id < s->next_id ? "it was removed" : "never added");
 }
@@ -153,19 +124,32 @@ static void cut(void *arr, size_t *n, size_t i, size_t size)
     --*n;
 }
 
-/* The emitter of shape PRIM_ID(kind, i) goes; later ones of that kind move down. */
-static void drop_emitter(lc_scene *s, unsigned kind, size_t i)
+/* The emitter of shape i of that kind goes; later ones of the kind move down. */
+static void drop_emitter(lc_scene *s, lc_shape_kind kind, size_t i)
 {
-    uint32_t id = PRIM_ID(kind, i);
     for (size_t e = 0; e < s->nemitters; e++) {
-        if (s->emitters[e].shape == id) {
+        emitter *em = &s->emitters[e];
+        if (em->kind != kind || em->index < i)
+            continue;
+        if (em->index == i) {
             cut(s->emitters, &s->nemitters, e, sizeof *s->emitters);
             e--;
-        } else if (PRIM_KIND(s->emitters[e].shape) == kind &&
-                   PRIM_INDEX(s->emitters[e].shape) > i) {
-            s->emitters[e].shape--;
+        } else {
+            em->index--;
+            em->prim--;
         }
     }
+}
+
+static void remove_shape(lc_scene *s, lc_shape_kind kind, size_t i)
+{
+    shape_list *l = &s->shapes[kind];
+    size_t n = l->n;
+    cut(l->geom, &n, i, l->size);
+    n = l->n;
+    cut(l->material, &n, i, sizeof *l->material);
+    cut(l->id, &l->n, i, sizeof *l->id);
+    drop_emitter(s, kind, i);
 }
 
 lc_status lc_scene_remove(lc_scene *s, int id, lc_error *err)
@@ -176,40 +160,21 @@ lc_status lc_scene_remove(lc_scene *s, int id, lc_error *err)
     long i;
     switch (o.kind) {
     case LC_OBJECT_LIGHT:
-        i = find_light(s, id);
+        i = find_id(s->light_ids, s->nlights, id);
         memmove(s->light_ids + i, s->light_ids + i + 1,
                 (s->nlights - (size_t)i - 1) * sizeof *s->light_ids);
         cut(s->lights, &s->nlights, (size_t)i, sizeof *s->lights);
         break;
     case LC_OBJECT_MESH:
-        FIND(s->meshes, s->nmeshes, id, i);
+        i = find_mesh(s, id);
         lc_mesh_free(s->meshes[i].mesh);       /* the scene's hold; the cache has its own */
         free(s->meshes[i].xf);
         cut(s->meshes, &s->nmeshes, (size_t)i, sizeof *s->meshes);
         s->nshapes--;
         break;
     default:
-        switch (o.shape.kind) {
-        case LC_SPHERE:
-            FIND(s->spheres, s->nspheres, id, i);
-            cut(s->spheres, &s->nspheres, (size_t)i, sizeof *s->spheres);
-            drop_emitter(s, PRIM_SPHERE, (size_t)i);
-            break;
-        case LC_QUAD:
-            FIND(s->quads, s->nquads, id, i);
-            cut(s->quads, &s->nquads, (size_t)i, sizeof *s->quads);
-            drop_emitter(s, PRIM_QUAD, (size_t)i);
-            break;
-        case LC_BOX:
-            FIND(s->boxes, s->nboxes, id, i);
-            cut(s->boxes, &s->nboxes, (size_t)i, sizeof *s->boxes);
-            drop_emitter(s, PRIM_BOX, (size_t)i);
-            break;
-        default:
-            FIND(s->planes, s->nplanes, id, i);
-            cut(s->planes, &s->nplanes, (size_t)i, sizeof *s->planes);
-            break;
-        }
+        i = find_id(s->shapes[o.shape.kind].id, s->shapes[o.shape.kind].n, id);
+        remove_shape(s, o.shape.kind, (size_t)i);
         s->nshapes--;
         break;
     }

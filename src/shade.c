@@ -6,8 +6,6 @@
 #include <string.h>
 #include "shade.h"
 
-#define PI 3.14159265358979323846
-
 typedef struct {
     radiance diffuse;     /* sum of Lc * (n.l) */
     radiance specular;    /* sum of Lc * (R.V)^alpha */
@@ -63,7 +61,6 @@ int log_ray(tracer *t, int parent, lc_ray_kind kind, const lc_ray *r)
 
 static void log_hit(tracer *t, int i, const lc_hit *h, lc_vec3 n)
 {
-    static const int kinds[] = {LC_SPHERE, LC_QUAD, LC_BOX, LC_SHAPE_KINDS, LC_PLANE};
     if (i < 0)
         return;
     lc_ray_record *x = &t->log->r[i];
@@ -71,7 +68,7 @@ static void log_hit(tracer *t, int i, const lc_hit *h, lc_vec3 n)
     x->distance = h->t;
     x->point = h->p;
     x->normal = n;
-    x->shape_kind = kinds[PRIM_KIND(h->shape)];
+    x->shape_kind = shape_kind_of_prim(PRIM_KIND(h->shape));
     x->shape = PRIM_INDEX(h->shape);
     if (PRIM_KIND(h->shape) == PRIM_TRIANGLE)
         x->shape = t->scene->c.tris[x->shape].face;
@@ -156,7 +153,7 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, unsigned 
     double tooclose = 4 * v3_len(h->perr);
     for (size_t i = 0; i < s->nemitters; i++) {
         const emitter *e = &s->emitters[i];
-        if (e->shape == h->shape)
+        if (e->prim == h->shape)
             continue;
         lc_vec3 tol = v3_sub(e->target, h->p);
         double d = v3_len(tol);
@@ -183,20 +180,12 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, unsigned 
             }
             lc_hit blk;
             if (scene_closest_n(t->scene, &sr, sd * (1 - SHADOW_SHORTEN), &blk, &t->counts) &&
-                blk.shape != e->shape)
+                blk.shape != e->prim)
                 continue;
             if (rec >= 0)
                 t->log->r[rec].hit = 1;
         }
-        double k;
-        if (e->kind == LC_SPHERE) {
-            k = (e->radius / d) * (e->radius / d);
-        } else {
-            double a = fabs(v3_dot(e->area[0], l));
-            if (e->kind == LC_BOX)
-                a += fabs(v3_dot(e->area[1], l)) + fabs(v3_dot(e->area[2], l));
-            k = a / (PI * d * d);
-        }
+        double k = shape_light_centre(e->kind, shape_at(&s->shapes[e->kind], e->index), l, d);
         if (k > 1)                  /* no shape gives more than its radiance */
             k = 1;
         add_light(t, m, plan, n, v, l, cosl, r_scale(rad(e->emission), k), sum, rec);
@@ -211,28 +200,6 @@ typedef struct {
     uint32_t from, from_instance;  /* the primitive the first ray left ... */
     int      watch;                /* ... which it cannot meet again */
 } path;
-
-/* An orthonormal frame around unit a, without a singular direction (Duff et
-** al., Building an Orthonormal Basis, Revisited, JCGT 2017). */
-static void frame_around(lc_vec3 a, lc_vec3 *b1, lc_vec3 *b2)
-{
-    double sg = copysign(1.0, a.z), k = -1 / (sg + a.z), b = a.x * a.y * k;
-    *b1 = v3(1 + sg * a.x * a.x * k, sg * b, -sg * a.x);
-    *b2 = v3(b, sg + a.y * a.y * k, -a.y);
-}
-
-/* A direction uniform in solid angle inside the cone of unit axis a whose
-** half-angle has 1 - cos = omc (passed as such: no cancellation for tiny
-** cones; NUMERICS.md 1.11). */
-static lc_vec3 cone_direction(lc_vec3 a, double omc, const double u[2])
-{
-    double one_minus = u[0] * omc, c = 1 - one_minus;
-    double sn = sqrt(fmax(0, one_minus * (2 - one_minus)));
-    double phi = 2 * PI * u[1];
-    lc_vec3 b1, b2;
-    frame_around(a, &b1, &b2);
-    return v3_norm(v3_madd(v3_madd(v3_mul(a, c), b1, sn * cos(phi)), b2, sn * sin(phi)));
-}
 
 /* Traces the shadow ray of an area-light sample toward emitter e along l,
 ** up to its sampled point (tmax); 1 if nothing else is in the way. Logs it
@@ -256,52 +223,11 @@ static int light_visible(tracer *t, const lc_hit *h, const emitter *e, int which
     ** the emitter itself (its own surface, rounded, must not shadow the
     ** point sampled on it: at 1e7 from the origin the rounding is as large
     ** as any relative shortening, H2). */
-    if (scene_occluded_skip(t->scene, &sr, tmax, e->shape, &t->counts))
+    if (scene_occluded_skip(t->scene, &sr, tmax, e->prim, &t->counts))
         return 0;
     if (*rec >= 0)
         t->log->r[*rec].hit = 1;
     return 1;
-}
-
-/* A point of a box's faces that face p, uniform over their total area:
-** u[0] picks the face (and is stretched back to [0, 1) inside it). Returns
-** the total area seen, 0 when p is inside. */
-static double box_point(const emitter *e, lc_vec3 p, const double u[2], lc_vec3 *q,
-                        lc_vec3 *normal)
-{
-    lc_vec3 c = e->target, faces[3][4];      /* corner, edge, edge, outward normal */
-    double area[3], total = 0;
-    int nf = 0;
-    for (int a = 0; a < 3; a++) {
-        lc_vec3 ea = e->edge[a], e1 = e->edge[(a + 1) % 3], e2 = e->edge[(a + 2) % 3];
-        lc_vec3 nrm = e->area[a];                       /* e1 x e2 */
-        if (v3_dot(nrm, ea) < 0)
-            nrm = v3_neg(nrm);
-        double side = v3_dot(v3_sub(p, c), nrm), half = 0.5 * v3_dot(ea, nrm);
-        if (side > half) {                              /* beyond the + face */
-            faces[nf][0] = v3_madd(e->corner, ea, 1);
-        } else if (side < -half) {
-            faces[nf][0] = e->corner;
-            nrm = v3_neg(nrm);
-        } else {
-            continue;
-        }
-        faces[nf][1] = e1;
-        faces[nf][2] = e2;
-        faces[nf][3] = nrm;
-        area[nf] = v3_len(nrm);
-        total += area[nf++];
-    }
-    if (nf == 0)
-        return 0;
-    double pick = u[0] * total;
-    int f = 0;
-    while (f < nf - 1 && pick >= area[f])
-        pick -= area[f++];
-    double s = fmin(pick / area[f], BELOW_ONE);
-    *q = v3_madd(v3_madd(faces[f][0], faces[f][1], s), faces[f][2], u[1]);
-    *normal = faces[f][3];
-    return total;
 }
 
 /* Emissive shapes as area lights (light_samples > 0): each hit takes S
@@ -316,65 +242,22 @@ static void area_lights(tracer *t, const lc_hit *h, const lc_material *m, unsign
     uint32_t S = (uint32_t)t->light_samples, count = nested_count(pa->count, S);
     for (size_t i = 0; i < s->nemitters; i++) {
         const emitter *e = &s->emitters[i];
-        if (e->shape == h->shape)
+        if (e->prim == h->shape)
             continue;
-        double omc = 0, solid = 0, dc = 0;
-        lc_vec3 axis = {0, 0, 0}, tc = {0, 0, 0};
-        if (e->kind == LC_SPHERE) {
-            tc = v3_sub(e->target, h->p);
-            double d2 = v3_dot(tc, tc), r2 = e->radius * e->radius;
-            if (!(d2 > r2))                 /* on or inside the light */
-                continue;
-            dc = sqrt(d2);
-            axis = v3_mul(tc, 1 / dc);
-            double sin2 = r2 / d2, cosmax = sqrt(1 - sin2);
-            if (v3_dot(n, axis) <= -sqrt(sin2))     /* wholly below the horizon */
-                continue;
-            omc = sin2 / (1 + cosmax);
-            solid = 2 * PI * omc;
-        } else if (e->kind == LC_QUAD) {
-            lc_vec3 to = v3_sub(h->p, e->corner);
-            if (v3_dot(to, e->area[0]) == 0)        /* in the light's plane */
-                continue;
-        }
+        const void *geom = shape_at(&s->shapes[e->kind], e->index);
+        light_setup ls;
+        if (!shape_light_begin(e->kind, geom, h->p, n, &ls))
+            continue;
         for (uint32_t j = 0; j < S; j++) {
-            double u[2], k, dist;
-            lc_vec3 l;
+            double u[2];
+            light_sample ps;
             uint32_t idx = (uint32_t)(((uint64_t)pa->index * S + j) % count);
             sample_2d(&t->ps, sample_dim(DIM_LIGHT, (unsigned)pa->depth, (unsigned)i), idx,
                       count, u);
-            if (e->kind == LC_SPHERE) {
-                l = cone_direction(axis, omc, u);
-                k = solid / (PI * S);
-                /* Up to the near side: the root from the closest approach
-                ** (no cancellation); a ray grazing the rim may miss it by
-                ** rounding, and then goes as far as the centre's distance. */
-                double b = v3_dot(l, tc);
-                lc_vec3 off = v3_madd(tc, l, -b);
-                double disc = e->radius * e->radius - v3_dot(off, off);
-                dist = disc > 0 ? (b - sqrt(disc)) * (1 - SHADOW_SHORTEN) : dc;
-            } else {
-                lc_vec3 q, nl;
-                double area;
-                if (e->kind == LC_QUAD) {
-                    q = v3_madd(v3_madd(e->corner, e->edge[0], u[0]), e->edge[1], u[1]);
-                    nl = e->area[0];
-                    area = v3_len(nl);
-                } else {
-                    area = box_point(e, h->p, u, &q, &nl);
-                    if (area == 0)
-                        break;              /* inside the box: it lights nothing */
-                }
-                lc_vec3 tq = v3_sub(q, h->p);
-                double d2 = v3_dot(tq, tq);
-                dist = sqrt(d2);
-                if (!(dist > 0))
-                    continue;
-                l = v3_mul(tq, 1 / dist);
-                /* |n_l . l| A / d^2: the solid angle per unit of area. */
-                k = area * fabs(v3_dot(nl, l)) / v3_len(nl) / (PI * d2 * S);
-                dist *= 1 - SHADOW_SHORTEN;
-            }
+            if (!shape_light_sample(e->kind, geom, &ls, h->p, u, S, &ps))
+                continue;
+            lc_vec3 l = ps.l;
+            double k = ps.k, dist = ps.dist;
             double cosl = v3_dot(n, l);
             if (!(cosl > 0) || !(k > 0))
                 continue;
@@ -396,8 +279,7 @@ static double max3(radiance c) { return max2(c.r, max2(c.g, c.b)); }
 ** cannot meet it again: if it does, the spawn offset failed. */
 static int cannot_return(const lc_hit *h, lc_vec3 w)
 {
-    unsigned k = PRIM_KIND(h->shape);
-    return k == PRIM_QUAD || k == PRIM_PLANE || k == PRIM_TRIANGLE || v3_dot(w, h->n) > 0;
+    return prim_flat(PRIM_KIND(h->shape)) || v3_dot(w, h->n) > 0;
 }
 
 /* The number of rays a glossy hit splits into. */
@@ -416,7 +298,7 @@ static double cone_sample(tracer *t, const lc_material *m, lc_vec3 a, lc_vec3 n,
     double u[2], half = m->glossiness * (PI / 360);    /* half the half-angle */
     double omc = 2 * sin(half) * sin(half);            /* 1 - cos, no cancellation */
     sample_2d(&t->ps, sample_dim(DIM_CONE, (unsigned)depth, 0), index, count, u);
-    lc_vec3 w = cone_direction(a, omc, u);
+    lc_vec3 w = sample_cone(a, omc, u);
     double c = v3_dot(w, n);
     if (c < 0) {
         w = v3_madd(w, n, -2 * c);

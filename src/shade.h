@@ -19,7 +19,7 @@ typedef struct {
     unsigned needs;            /* copy of c->needs, minus what options turn off */
     const unsigned char *plan; /* per material: the PLAN_* steps its shading takes */
     int      shadows;          /* trace shadow rays (the render's switch) */
-    lc_counts counts;          /* this thread's intersection tests */
+    bvh_counts counts;          /* this thread's intersection tests */
     int      max_depth;
     int      cosine;
     double   cutoff;
@@ -41,12 +41,6 @@ typedef struct { double r, g, b; } radiance;
 ** keeps a huge light or coefficient from making an infinity, whose product
 ** with a zero would be a NaN pixel. */
 #define RADIANCE_CAP 1e100
-
-/* Shadow rays stop this fraction short of their target, so a light sitting
-** exactly on a surface is not hidden by that surface. Relative, hence the
-** same at every scale (pbrt-v4's ShadowEpsilon, tighter because we are in
-** double). Tested by the light-on-surface cases. */
-#define SHADOW_SHORTEN 1e-9
 
 /* The radiance camera sample `index` of `count` of the pixel brings back. */
 radiance trace_ray(tracer *t, const lc_ray *r, uint32_t index, uint32_t count);

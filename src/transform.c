@@ -1,14 +1,7 @@
-/* transform.c: affine transforms: building, composing, inverting, moving shapes. */
+/* transform.c: affine transforms: building, composing, inverting, applying. */
 #include <math.h>
 #include "error.h"
 #include "vec.h"
-
-/* A sphere stays a sphere when M's columns are orthogonal and of one length
-** (M = s R). Compared relative to the largest squared column length, so the
-** test does not depend on scale; rotations built from rounded sines and
-** composed a few dozen times are off by ~1e-15, while any shear or stretch
-** a user means is far above 1e-9. */
-#define UNIFORM_TOL 1e-9
 
 lc_transform lc_transform_identity(void)
 {
@@ -177,55 +170,11 @@ lc_status lc_transform_inverse(const lc_transform *t, lc_transform *out, lc_erro
 
 /* n' = sign(det) cof(M) n: the inverse transpose up to a positive factor,
 ** so a normal stays on the same side of the moved surface, mirror or not. */
-static lc_vec3 move_normal(const lc_transform *t, lc_vec3 n)
+lc_vec3 lc_transform_normal(const lc_transform *t, lc_vec3 n)
 {
     double cof[3][3], bound;
     double s = cofactors(t, cof, &bound) < 0 ? -1 : 1;
     return v3(s * (cof[0][0] * n.x + cof[0][1] * n.y + cof[0][2] * n.z),
               s * (cof[1][0] * n.x + cof[1][1] * n.y + cof[1][2] * n.z),
               s * (cof[2][0] * n.x + cof[2][1] * n.y + cof[2][2] * n.z));
-}
-
-lc_status lc_shape_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
-                             lc_error *err)
-{
-    if (lc_shape_check(s, err) || lc_transform_check(t, err))
-        return LC_EARG;
-    lc_shape r = *s;
-    r.p = lc_transform_point(t, s->p);
-    switch (s->kind) {
-    case LC_SPHERE: {
-        double g[3][3], big = 0;
-        for (int j = 0; j < 3; j++)
-            for (int k = 0; k < 3; k++) {
-                g[j][k] = t->m[0][j] * t->m[0][k] + t->m[1][j] * t->m[1][k] +
-                          t->m[2][j] * t->m[2][k];
-                if (j == k && g[j][j] > big)
-                    big = g[j][j];
-            }
-        double tol = UNIFORM_TOL * big;
-        if (fabs(g[0][1]) > tol || fabs(g[0][2]) > tol || fabs(g[1][2]) > tol ||
-            fabs(g[0][0] - g[1][1]) > tol || fabs(g[0][0] - g[2][2]) > tol)
-            return lc_fail(err, LC_EARG, "transform", "a sphere scales uniformly; this "
-                           "transform stretches or shears it (axes scaled by %g, %g, %g): "
-                           "use a mesh for an ellipsoid", sqrt(g[0][0]), sqrt(g[1][1]),
-                           sqrt(g[2][2]));
-        /* The mean square keeps exact scales exact: 2 I gives 2. */
-        r.radius = s->radius * sqrt((g[0][0] + g[1][1] + g[2][2]) / 3);
-        break;
-    }
-    case LC_PLANE:
-        r.u = move_normal(t, s->u);
-        break;
-    default:                                    /* quads and boxes: edges are vectors */
-        r.u = lc_transform_vector(t, s->u);
-        r.v = lc_transform_vector(t, s->v);
-        r.w = lc_transform_vector(t, s->w);
-        break;
-    }
-    if (lc_shape_check(&r, err))
-        return LC_EARG;
-    *out = r;
-    lc_ok(err);
-    return LC_OK;
 }

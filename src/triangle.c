@@ -1,5 +1,24 @@
-/* triangle.c: watertight ray/triangle hit (Woop, Benthin and Wald 2013). */
-#include "geom.h"
+/* triangle.c: mesh faces: the watertight hit (Woop, Benthin and Wald 2013),
+** bounds, and which faces can never be hit. */
+#include "bvh.h"
+#include "shape.h"
+
+int tri_degenerate(const double *a, const double *b, const double *c)
+{
+    lc_vec3 p = v3(a[0], a[1], a[2]);
+    lc_vec3 n = v3_cross(v3_sub(v3(b[0], b[1], b[2]), p), v3_sub(v3(c[0], c[1], c[2]), p));
+    double l = v3_dot(n, n);
+    return !(l > 0 && isfinite(l));
+}
+
+void tri_bounds(const double *a, const double *b, const double *c, float lo[3],
+                float hi[3])
+{
+    bvh_bounds_empty(lo, hi);
+    bvh_bounds_exact(lo, hi, a);
+    bvh_bounds_exact(lo, hi, b);
+    bvh_bounds_exact(lo, hi, c);
+}
 
 void tri_shear_init(lc_vec3 d, tri_shear *s)
 {

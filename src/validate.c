@@ -1,11 +1,9 @@
-/* validate.c: defaults and the checks every scene description passes. */
+/* validate.c: defaults and checks of materials, lights, cameras, settings and
+** render options; the helpers shape checks share. */
 #include <math.h>
 #include "error.h"
-#include "vec.h"
+#include "validate.h"
 
-/* Two directions closer than this angle (radians) count as parallel. Both
-** vectors are normalised first, so the test does not depend on scale. */
-#define PARALLEL_SIN 1e-12
 
 lc_material lc_material_default(void)
 {
@@ -31,22 +29,22 @@ lc_camera lc_camera_default(void)
     return c;
 }
 
-static int finite3(lc_vec3 v)
+int validate_finite3(lc_vec3 v)
 {
     return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
 }
 
-static lc_status check_vec(lc_vec3 v, const char *field, lc_error *err)
+lc_status validate_vec(lc_vec3 v, const char *field, lc_error *err)
 {
-    if (!finite3(v))
+    if (!validate_finite3(v))
         return lc_fail(err, LC_EARG, field, "must be finite, got (%g, %g, %g)",
                        v.x, v.y, v.z);
     return LC_OK;
 }
 
-static lc_status check_nonzero(lc_vec3 v, const char *field, lc_error *err)
+lc_status validate_nonzero(lc_vec3 v, const char *field, lc_error *err)
 {
-    if (check_vec(v, field, err))
+    if (validate_vec(v, field, err))
         return LC_EARG;
     if (v.x == 0 && v.y == 0 && v.z == 0)
         return lc_fail(err, LC_EARG, field, "must not be zero-length");
@@ -99,8 +97,8 @@ lc_status lc_material_check(const lc_material *m, lc_error *err)
     return LC_OK;
 }
 
-static lc_status check_not_parallel(lc_vec3 a, lc_vec3 b, const char *fa, const char *fb,
-                                    lc_error *err)
+lc_status validate_not_parallel(lc_vec3 a, lc_vec3 b, const char *fa, const char *fb,
+                                lc_error *err)
 {
     lc_vec3 c = v3_cross(v3_norm(a), v3_norm(b));
     if (!(v3_len(c) > PARALLEL_SIN))
@@ -108,48 +106,9 @@ static lc_status check_not_parallel(lc_vec3 a, lc_vec3 b, const char *fa, const 
     return LC_OK;
 }
 
-lc_status lc_shape_check(const lc_shape *s, lc_error *err)
-{
-    switch (s->kind) {
-    case LC_SPHERE:
-        if (check_vec(s->p, "center", err))
-            return LC_EARG;
-        if (!isfinite(s->radius))
-            return lc_fail(err, LC_EARG, "radius", "must be finite, got %g", s->radius);
-        if (!(s->radius > 0))
-            return lc_fail(err, LC_EARG, "radius", "must be > 0, got %g", s->radius);
-        break;
-    case LC_QUAD:
-        if (check_vec(s->p, "corner", err) || check_nonzero(s->u, "u", err) ||
-            check_nonzero(s->v, "v", err) || check_not_parallel(s->u, s->v, "u", "v", err))
-            return LC_EARG;
-        break;
-    case LC_BOX: {
-        if (check_vec(s->p, "corner", err) || check_nonzero(s->u, "u", err) ||
-            check_nonzero(s->v, "v", err) || check_nonzero(s->w, "w", err) ||
-            check_not_parallel(s->u, s->v, "u", "v", err) ||
-            check_not_parallel(s->v, s->w, "v", "w", err) ||
-            check_not_parallel(s->u, s->w, "u", "w", err))
-            return LC_EARG;
-        lc_vec3 nu = v3_norm(s->u), nv = v3_norm(s->v), nw = v3_norm(s->w);
-        if (!(fabs(v3_dot(v3_cross(nu, nv), nw)) > PARALLEL_SIN))
-            return lc_fail(err, LC_EARG, "w", "'u', 'v' and 'w' must not be coplanar");
-        break;
-    }
-    case LC_PLANE:
-        if (check_vec(s->p, "point", err) || check_nonzero(s->u, "normal", err))
-            return LC_EARG;
-        break;
-    default:
-        return lc_fail(err, LC_EARG, "kind", "unknown shape kind %d", (int)s->kind);
-    }
-    lc_ok(err);
-    return LC_OK;
-}
-
 lc_status lc_point_light_check(const lc_point_light *l, lc_error *err)
 {
-    if (check_vec(l->position, "position", err) ||
+    if (validate_vec(l->position, "position", err) ||
         check_color(l->color, HUGE_VAL, "color", err) ||
         check_coef(l->intensity, "intensity", err))
         return LC_EARG;
@@ -161,15 +120,15 @@ lc_status lc_point_light_check(const lc_point_light *l, lc_error *err)
 
 lc_status lc_camera_check(const lc_camera *c, lc_error *err)
 {
-    if (check_vec(c->from, "from", err) || check_vec(c->at, "at", err) ||
-        check_nonzero(c->up, "up", err))
+    if (validate_vec(c->from, "from", err) || validate_vec(c->at, "at", err) ||
+        validate_nonzero(c->up, "up", err))
         return LC_EARG;
     lc_vec3 f = v3_sub(c->at, c->from);
     if (f.x == 0 && f.y == 0 && f.z == 0)
         return lc_fail(err, LC_EARG, "at", "must differ from 'from'");
     if (!isfinite(v3_dot(f, f)) || !(v3_dot(f, f) > 0))
         return lc_fail(err, LC_EARG, "at", "distance to 'from' out of range");
-    if (check_not_parallel(f, c->up, "at - from", "up", err))
+    if (validate_not_parallel(f, c->up, "at - from", "up", err))
         return LC_EARG;
     if (!isfinite(c->fov) || !(c->fov > 0 && c->fov < 180))
         return lc_fail(err, LC_EARG, "fov", "must be in (0, 180) degrees, got %g", c->fov);
@@ -182,8 +141,62 @@ lc_status lc_camera_check(const lc_camera *c, lc_error *err)
     return LC_OK;
 }
 
-const char *lc_shape_kind_name(lc_shape_kind k)
+
+lc_render_options lc_render_options_default(void)
 {
-    static const char *const names[] = {"sphere", "quad", "box", "plane", "triangle"};
-    return (unsigned)k <= LC_SHAPE_KINDS ? names[k] : "?";
+    lc_render_options o;
+    memset(&o, 0, sizeof o);
+    o.width = 640;
+    o.height = 480;
+    o.samples = 1;
+    o.sampler = LC_SAMPLER_SOBOL;
+    o.light_samples = 16;
+    o.max_depth = -1;
+    o.min_samples = 16;
+    o.glossy = 1;
+    o.cosine = 1;
+    o.cutoff = 1.0 / 255;   /* POV-Ray's adc_bailout: below one step of 8-bit output */
+    o.shadows = o.reflections = o.specular = 1;
+    return o;
+}
+
+lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
+{
+    if (o->width < 1 || o->width > LC_MAX_SIDE)
+        return lc_fail(err, LC_EARG, "width", "must be in [1, %d], got %d", LC_MAX_SIDE,
+                       o->width);
+    if (o->height < 1 || o->height > LC_MAX_SIDE)
+        return lc_fail(err, LC_EARG, "height", "must be in [1, %d], got %d", LC_MAX_SIDE,
+                       o->height);
+    if ((size_t)o->width * (size_t)o->height > LC_MAX_PIXELS)
+        return lc_fail(err, LC_EARG, "width", "%dx%d is more than %zu pixels",
+                       o->width, o->height, LC_MAX_PIXELS);
+    if (o->samples < 1 || o->samples > LC_MAX_SAMPLES)
+        return lc_fail(err, LC_EARG, "samples", "must be in [1, %d], got %d", LC_MAX_SAMPLES,
+                       o->samples);
+    if ((unsigned)o->sampler > LC_SAMPLER_RANDOM)
+        return lc_fail(err, LC_EARG, "sampler", "unknown sampler %d", (int)o->sampler);
+    if (o->light_samples < 0 || o->light_samples > LC_MAX_LIGHT_SAMPLES)
+        return lc_fail(err, LC_EARG, "light_samples", "must be in [0, %d], got %d",
+                       LC_MAX_LIGHT_SAMPLES, o->light_samples);
+    if (o->cone_samples < 0 || o->cone_samples > LC_MAX_CONE_SAMPLES)
+        return lc_fail(err, LC_EARG, "cone_samples", "must be in [0, %d], got %d",
+                       LC_MAX_CONE_SAMPLES, o->cone_samples);
+    if (o->max_depth < -1 || o->max_depth > LC_MAX_DEPTH)
+        return lc_fail(err, LC_EARG, "max_depth", "must be in [0, %d], got %d",
+                       LC_MAX_DEPTH, o->max_depth);
+    if (!(o->noise >= 0 && o->noise <= HUGE_VAL) || isinf(o->noise))
+        return lc_fail(err, LC_EARG, "noise", "must be finite and >= 0, got %g", o->noise);
+    if (o->noise > 0 && o->sampler == LC_SAMPLER_JITTER)
+        return lc_fail(err, LC_EARG, "sampler", "adaptive sampling (noise > 0) stops after "
+                       "any number of samples: it needs 'sobol' or 'random', not 'jitter'");
+    if (o->min_samples < 1 || o->min_samples > LC_MAX_SAMPLES)
+        return lc_fail(err, LC_EARG, "min_samples", "must be in [1, %d], got %d",
+                       LC_MAX_SAMPLES, o->min_samples);
+    if (!(o->cutoff >= 0 && o->cutoff <= 1))
+        return lc_fail(err, LC_EARG, "cutoff", "must be in [0, 1], got %g", o->cutoff);
+    if (o->threads < 0 || o->threads > LC_MAX_THREADS)
+        return lc_fail(err, LC_EARG, "threads", "must be in [0, %d], got %d", LC_MAX_THREADS,
+                       o->threads);
+    return LC_OK;
 }

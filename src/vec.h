@@ -8,6 +8,8 @@
 #include <string.h>
 #include "lancer.h"
 
+#define PI 3.14159265358979323846
+
 static inline lc_vec3 v3(double x, double y, double z)
 {
     lc_vec3 r = {x, y, z};

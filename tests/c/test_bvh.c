@@ -27,14 +27,15 @@ static int brute_closest(const lc_scene *s, const lc_ray *r, lc_hit *best)
     lc_hit h;
     tri_shear sh;
     tri_shear_init(r->d, &sh);
-    for (size_t i = 0; i < s->nspheres; i++)
-        if (sphere_hit(&s->spheres[i].g, r, 0, HUGE_VAL, &h) && (!found || h.t < best->t)) {
+    const shape_list *sp = &s->shapes[LC_SPHERE], *bx = &s->shapes[LC_BOX];
+    for (size_t i = 0; i < sp->n; i++)
+        if (sphere_hit(shape_at(sp, i), r, 0, HUGE_VAL, &h) && (!found || h.t < best->t)) {
             *best = h;
             best->shape = PRIM_ID(PRIM_SPHERE, i);
             found = 1;
         }
-    for (size_t i = 0; i < s->nboxes; i++)
-        if (box_hit(&s->boxes[i].g, r, 0, HUGE_VAL, &h) && (!found || h.t < best->t)) {
+    for (size_t i = 0; i < bx->n; i++)
+        if (box_hit(shape_at(bx, i), r, 0, HUGE_VAL, &h) && (!found || h.t < best->t)) {
             *best = h;
             best->shape = PRIM_ID(PRIM_BOX, i);
             found = 1;

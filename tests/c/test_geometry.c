@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <cmocka.h>
-#include "geom.h"
+#include "shape.h"
 
 /* Half an ulp of 1: the relative error of one rounding. */
 #define EPS (DBL_EPSILON / 2)

@@ -810,7 +810,7 @@ static void tiny_sphere_is_invisible(void **state)
     add_shape(sc, wall, mat);
     compile(sc);
     lc_ray r = mkray(v3(0, 0, -3), v3(0, 0, 1));
-    sphere_geom g = sc->spheres[0].g;
+    sphere_geom g = *(const sphere_geom *)shape_at(&sc->shapes[LC_SPHERE], 0);
     lc_hit h;
     double t = sphere_t(&g, &r, 0, HUGE_VAL);
     int full = sphere_hit(&g, &r, 0, HUGE_VAL, &h);

@@ -1,0 +1,191 @@
+/* shape.c: the dispatch over shape kinds: every switch on a kind but the
+** nearest-hit one in intersect.c.
+**
+** A new kind of shape (say LC_DISC) touches exactly these places:
+**   1. src/lancer.h: LC_DISC in lc_shape_kind (before LC_SHAPE_KINDS), and
+**      any lc_shape field it needs;
+**   2. src/disc.c: everything the kind does: disc_check, _prepare,
+**      _describe, _transform, _scale, _bounds, the hit (disc_t and disc_hit),
+**      and, if it can glow, _light_centre, _light_begin and _light_sample;
+**   3. src/shape.h: its disc_geom (and disc_light) and those prototypes, a
+**      PRIM_DISC id (after PRIM_INSTANCE, with room in the 3 kind bits) and,
+**      if flat, its bit in PRIM_FLAT; its light setup in light_setup;
+**   4. this file: a case in each switch below, and its entries in the
+**      tables;
+**   5. src/intersect.c: a case in prim_t and prim_finish, the nearest-hit
+**      switch kept there for speed;
+**   6. src/lua_shapes.c: its Lua constructor, lancer.disc{...}, and the
+**      fields it lists.
+** Scenes store, list, move, bound, remove and sample every kind through
+** this file, so nothing else changes. */
+#include <string.h>
+#include "shape.h"
+#include "validate.h"
+
+static const char *const kind_names[LC_SHAPE_KINDS + 1] = {
+    [LC_SPHERE] = "sphere", [LC_QUAD] = "quad", [LC_BOX] = "box", [LC_PLANE] = "plane",
+    [LC_SHAPE_KINDS] = "triangle"};
+
+static const unsigned prim_kinds[LC_SHAPE_KINDS] = {
+    [LC_SPHERE] = PRIM_SPHERE, [LC_QUAD] = PRIM_QUAD, [LC_BOX] = PRIM_BOX,
+    [LC_PLANE] = PRIM_PLANE};
+
+static const size_t geom_sizes[LC_SHAPE_KINDS] = {
+    [LC_SPHERE] = sizeof(sphere_geom), [LC_QUAD] = sizeof(quad_geom),
+    [LC_BOX] = sizeof(box_geom), [LC_PLANE] = sizeof(plane_geom)};
+
+const char *lc_shape_kind_name(lc_shape_kind k)
+{
+    return (unsigned)k <= LC_SHAPE_KINDS ? kind_names[k] : "?";
+}
+
+size_t   shape_geom_size(lc_shape_kind k) { return geom_sizes[k]; }
+unsigned shape_prim_kind(lc_shape_kind k) { return prim_kinds[k]; }
+int      shape_bounded(lc_shape_kind k) { return k != LC_PLANE; }
+int      shape_can_emit(lc_shape_kind k) { return k != LC_PLANE; }
+
+lc_shape_kind shape_kind_of_prim(unsigned prim_kind)
+{
+    for (int k = 0; k < LC_SHAPE_KINDS; k++)
+        if (prim_kinds[k] == prim_kind)
+            return (lc_shape_kind)k;
+    return LC_SHAPE_KINDS;                      /* a mesh's triangle */
+}
+
+lc_status lc_shape_check(const lc_shape *s, lc_error *err)
+{
+    lc_status st;
+    switch (s->kind) {
+    case LC_SPHERE: st = sphere_check(s, err); break;
+    case LC_QUAD: st = quad_check(s, err); break;
+    case LC_BOX: st = box_check(s, err); break;
+    case LC_PLANE: st = plane_check(s, err); break;
+    default:
+        return lc_fail(err, LC_EARG, "kind", "unknown shape kind %d", (int)s->kind);
+    }
+    if (st == LC_OK)
+        lc_ok(err);
+    return st;
+}
+
+lc_status lc_shape_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
+                             lc_error *err)
+{
+    if (lc_shape_check(s, err) || lc_transform_check(t, err))
+        return LC_EARG;
+    lc_shape r;
+    lc_status st;
+    switch (s->kind) {
+    case LC_SPHERE: st = sphere_transform(s, t, &r, err); break;
+    case LC_QUAD: st = quad_transform(s, t, &r, err); break;
+    case LC_BOX: st = box_transform(s, t, &r, err); break;
+    default: st = plane_transform(s, t, &r, err); break;
+    }
+    if (st || lc_shape_check(&r, err))
+        return LC_EARG;
+    *out = r;
+    lc_ok(err);
+    return LC_OK;
+}
+
+lc_status lc_shape_stored(const lc_shape *s, lc_shape *out, lc_error *err)
+{
+    if (lc_shape_check(s, err))
+        return LC_EARG;
+    union { sphere_geom s; quad_geom q; box_geom b; plane_geom p; } g;
+    shape_prepare(s, &g);
+    memset(out, 0, sizeof *out);                /* as the scene lists it */
+    shape_describe(s->kind, &g, out);
+    return LC_OK;
+}
+
+void shape_prepare(const lc_shape *s, void *geom)
+{
+    switch (s->kind) {
+    case LC_SPHERE: sphere_prepare(s, geom); break;
+    case LC_QUAD: quad_prepare(s, geom); break;
+    case LC_BOX: box_prepare(s, geom); break;
+    default: plane_prepare(s, geom); break;
+    }
+}
+
+void shape_describe(lc_shape_kind k, const void *geom, lc_shape *out)
+{
+    out->kind = k;
+    switch (k) {
+    case LC_SPHERE: sphere_describe(geom, out); break;
+    case LC_QUAD: quad_describe(geom, out); break;
+    case LC_BOX: box_describe(geom, out); break;
+    default: plane_describe(geom, out); break;
+    }
+}
+
+void shape_scale(lc_shape *s, double k, lc_vec3 offset)
+{
+    switch (s->kind) {
+    case LC_SPHERE: sphere_scale(s, k, offset); break;
+    case LC_QUAD: quad_scale(s, k, offset); break;
+    case LC_BOX: box_scale(s, k, offset); break;
+    default: plane_scale(s, k, offset); break;
+    }
+}
+
+void shape_bounds(lc_shape_kind k, const void *geom, float lo[3], float hi[3])
+{
+    switch (k) {
+    case LC_SPHERE: sphere_bounds(geom, lo, hi); break;
+    case LC_QUAD: quad_bounds(geom, lo, hi); break;
+    case LC_BOX: box_bounds(geom, lo, hi); break;
+    default:                                    /* unbounded: never in the BVH */
+        for (int a = 0; a < 3; a++) {
+            lo[a] = -HUGE_VALF;
+            hi[a] = HUGE_VALF;
+        }
+        break;
+    }
+}
+
+lc_vec3 shape_light_target(lc_shape_kind k, const void *geom)
+{
+    switch (k) {
+    case LC_SPHERE:
+        return ((const sphere_geom *)geom)->c;
+    case LC_QUAD: {
+        const quad_geom *g = geom;
+        return v3_add(g->q, v3_mul(v3_add(g->u, g->v), 0.5));
+    }
+    default: {
+        const box_geom *g = geom;
+        return v3_add(g->q, v3_mul(v3_add(v3_add(g->e[0], g->e[1]), g->e[2]), 0.5));
+    }
+    }
+}
+
+double shape_light_centre(lc_shape_kind k, const void *geom, lc_vec3 l, double d)
+{
+    switch (k) {
+    case LC_SPHERE: return sphere_light_centre(geom, l, d);
+    case LC_QUAD: return quad_light_centre(geom, l, d);
+    default: return box_light_centre(geom, l, d);
+    }
+}
+
+int shape_light_begin(lc_shape_kind k, const void *geom, lc_vec3 p, lc_vec3 n,
+                      light_setup *ls)
+{
+    switch (k) {
+    case LC_SPHERE: return sphere_light_begin(geom, p, n, &ls->sphere);
+    case LC_QUAD: return quad_light_begin(geom, p, &ls->quad);
+    default: return box_light_begin(geom, p, &ls->box);
+    }
+}
+
+int shape_light_sample(lc_shape_kind k, const void *geom, const light_setup *ls,
+                       lc_vec3 p, const double u[2], uint32_t S, light_sample *out)
+{
+    switch (k) {
+    case LC_SPHERE: return sphere_light_sample(geom, &ls->sphere, p, u, S, out);
+    case LC_QUAD: return quad_light_sample(geom, &ls->quad, p, u, S, out);
+    default: return box_light_sample(geom, &ls->box, p, u, S, out);
+    }
+}

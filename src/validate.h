@@ -1,0 +1,19 @@
+/* validate.h: the checks that shape, light and camera descriptions share. */
+#ifndef LC_VALIDATE_H
+#define LC_VALIDATE_H
+
+#include "error.h"
+#include "vec.h"
+
+/* Two directions closer than this angle (radians) count as parallel. Both
+** vectors are normalised first, so the test does not depend on scale. */
+#define PARALLEL_SIN 1e-12
+
+int       validate_finite3(lc_vec3 v);
+/* Each returns LC_OK, or fills err naming the field and the value. */
+lc_status validate_vec(lc_vec3 v, const char *field, lc_error *err);       /* finite */
+lc_status validate_nonzero(lc_vec3 v, const char *field, lc_error *err);   /* a direction */
+lc_status validate_not_parallel(lc_vec3 a, lc_vec3 b, const char *fa, const char *fb,
+                                lc_error *err);
+
+#endif
