@@ -75,7 +75,7 @@ void bvh_bounds_grow(float lo[3], float hi[3], lc_vec3 p);
 /* ---- Traversal: written once, for the scene and for every mesh instance ---- */
 
 /* The build makes leaves at this depth; only a leaf of more than 65 535
-** primitives is halved further, which at most 2^29 of them adds 14 levels.
+** primitives is halved further, which at most 2^28 of them adds 13 levels.
 ** A traversal pushes at most one node per level: its stack holds twice the
 ** depth. */
 #define BVH_MAX_DEPTH 64

@@ -124,7 +124,7 @@ int scene_occluded_n(const lc_scene *s, const lc_ray *r, double tmax, bvh_counts
 ** that emitter, whatever the rounding of its own surface. */
 int scene_occluded_skip(const lc_scene *s, const lc_ray *r, double tmax, uint32_t skip,
                         bvh_counts *counts);
-#define SCENE_SKIP_NONE 0xffffffffu     /* kind 7: no primitive has this id */
+#define SCENE_SKIP_NONE 0xffffffffu     /* kind 15: no primitive has this id */
 #define scene_closest(s, r, tmax, h) scene_closest_n((s), (r), (tmax), (h), NULL)
 #define scene_occluded(s, r, tmax)   scene_occluded_n((s), (r), (tmax), NULL)
 

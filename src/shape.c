@@ -8,7 +8,7 @@
 **      _describe, _transform, _scale, _bounds, the hit (disc_t and disc_hit),
 **      and, if it can glow, _light_centre, _light_begin and _light_sample;
 **   3. src/shape.h: its disc_geom (and disc_light) and those prototypes, a
-**      PRIM_DISC id (after PRIM_INSTANCE, with room in the 3 kind bits) and,
+**      PRIM_DISC id (before PRIM_KINDS: 4 bits hold 15 kinds) and,
 **      if flat, its bit in PRIM_FLAT; its light setup in light_setup;
 **   4. this file: a case in each switch below, and its entries in the
 **      tables;

@@ -8,14 +8,16 @@
 
 /* ---- Primitive ids ----------------------------------------------------------- */
 
-/* A primitive's id: its kind in the top 3 bits, its index in that kind's
-** list. Ids order ties between equally near hits. */
+/* A primitive's id: its kind in the top 4 bits, its index in that kind's
+** list. Ids order ties between equally near hits. Kind 15 is no kind
+** (SCENE_SKIP_NONE). */
 enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
-       PRIM_INSTANCE };     /* a moved mesh: only in BVH refs, never in a hit */
-#define PRIM_ID(kind, index) (((uint32_t)(kind) << 29) | (uint32_t)(index))
-#define PRIM_KIND(id)        ((unsigned)((id) >> 29))
-#define PRIM_INDEX(id)       ((id) & 0x1fffffffu)
-#define PRIM_MAX             ((size_t)1 << 29)
+       PRIM_INSTANCE,       /* a moved mesh: only in BVH refs, never in a hit */
+       PRIM_KINDS };
+#define PRIM_ID(kind, index) (((uint32_t)(kind) << 28) | (uint32_t)(index))
+#define PRIM_KIND(id)        ((unsigned)((id) >> 28))
+#define PRIM_INDEX(id)       ((id) & 0x0fffffffu)
+#define PRIM_MAX             ((size_t)1 << 28)
 
 /* Flat primitives: a ray leaving one can never meet it again. */
 #define PRIM_FLAT ((1u << PRIM_QUAD) | (1u << PRIM_PLANE) | (1u << PRIM_TRIANGLE))
