@@ -254,6 +254,6 @@ int box_light_sample(const box_geom *g, const box_light *bl, lc_vec3 p,
         return 0;
     out->l = v3_mul(tq, 1 / dist);
     out->k = bl->total * fabs(v3_dot(face[3], out->l)) / v3_len(face[3]) / (PI * d2 * S);
-    out->dist = dist * (1 - SHADOW_SHORTEN);
+    out->dist = dist;
     return 1;
 }

@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdint.h>
 #include "lancer.h"
+#include "vec.h"
 
 /* 32 bytes. Bounds are floats rounded outward from the double geometry, so a
 ** node always contains what it claims to. */
@@ -108,17 +109,12 @@ static inline void bvh_ray_init(bvh_ray *q, lc_vec3 o, lc_vec3 d)
 
 /* The traversals take their leaf test as a function, called with a constant:
 ** once the traversal is inlined into its one caller, so is the leaf. */
-#if defined(__GNUC__)
-#define BVH_INLINE static inline __attribute__((always_inline))
-#else
-#define BVH_INLINE static inline
-#endif
 
 /* Closest hit: visits the leaves that may hold a hit nearer than tmax,
 ** nearer child first, skipping a farther one once a hit lies before it.
 ** leaf(ctx, ref, tmax) tests one primitive and returns tmax, shrunk when it
 ** found a nearer hit. Returns the number of node tests. */
-BVH_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
+ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
                                 double (*leaf)(void *ctx, uint32_t ref, double tmax))
 {
     if (!b->nnodes)
@@ -165,7 +161,7 @@ BVH_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, voi
 /* Any hit: leaf(ctx, ref, tmax) returns nonzero when the primitive blocks
 ** the ray, which ends the search. Returns 1 if one did; *nodes counts the
 ** node tests. */
-BVH_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
+ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
                        int (*leaf)(void *ctx, uint32_t ref, double tmax), uint64_t *nodes)
 {
     if (!b->nnodes)

@@ -121,6 +121,6 @@ int quad_light_sample(const quad_geom *g, const quad_light *ql, lc_vec3 p,
         return 0;
     out->l = v3_mul(tq, 1 / dist);
     out->k = ql->area * fabs(v3_dot(g->n, out->l)) / ql->area / (PI * d2 * S);
-    out->dist = dist * (1 - SHADOW_SHORTEN);
+    out->dist = dist;
     return 1;
 }

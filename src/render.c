@@ -164,13 +164,14 @@ lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y
     memset(&j, 0, sizeof j);
     j.o = o;
     camera_frame_init(&s->camera, o->width, o->height, &j.cam);
-    ray_log log = {NULL, NULL, 0, 0, 0};
+    ray_log log;
+    memset(&log, 0, sizeof log);
     tracer t;
     tracer_init(&t, s, o);
     t.log = &log;
     t.ps = pixel_sampler_init(o->sampler, o->seed, o->frame, (uint64_t)y * o->width + x);
     camera_sample(&j, &t, x, y, (uint32_t)sample, (uint32_t)o->samples);
-    free(log.before);
+    explain_free(&log);
     if (log.failed) {
         free(log.r);
         return lc_fail(err, LC_ENOMEM, NULL, "out of memory recording the rays");

@@ -38,7 +38,7 @@ typedef struct {
 /* One point (or direction) sampled on an emitter, seen from a shaded point. */
 typedef struct {
     lc_vec3 l;             /* unit direction toward it */
-    double  dist;          /* how far its shadow ray goes */
+    double  dist;          /* its distance: the shadow ray stops just short */
     double  k;             /* its share: the solid angle it stands for over pi S,
                            ** so that the light adds emission k cos */
 } light_sample;

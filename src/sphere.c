@@ -202,6 +202,6 @@ int sphere_light_sample(const sphere_geom *g, const sphere_light *sl, lc_vec3 p,
     double b = v3_dot(l, sl->tc);
     lc_vec3 off = v3_madd(sl->tc, l, -b);
     double disc = g->r * g->r - v3_dot(off, off);
-    out->dist = disc > 0 ? (b - sqrt(disc)) * (1 - SHADOW_SHORTEN) : sl->dc;
+    out->dist = disc > 0 ? b - sqrt(disc) : sl->dc;
     return 1;
 }

@@ -10,6 +10,15 @@
 
 #define PI 3.14159265358979323846
 
+/* For the few hot helpers written once for several callers (a BVH
+** traversal, the shadow ray) that the compiler would otherwise call: each
+** caller gets its own inlined copy, as when the code was written out. */
+#if defined(__GNUC__)
+#define ALWAYS_INLINE static inline __attribute__((always_inline))
+#else
+#define ALWAYS_INLINE static inline
+#endif
+
 static inline lc_vec3 v3(double x, double y, double z)
 {
     lc_vec3 r = {x, y, z};

@@ -1,0 +1,105 @@
+/* explain.c: recording the rays one sample traces and what each adds to the
+** pixel (lc_scene_explain's ray tree). */
+#include <stdlib.h>
+#include <string.h>
+#include "explain.h"
+
+void explain_free(ray_log *g)
+{
+    free(g->before);
+    g->before = NULL;
+}
+
+int explain_ray(ray_log *g, int parent, lc_ray_kind kind, const lc_ray *r)
+{
+    if (g->failed)
+        return -1;
+    if (g->n == g->cap) {
+        size_t nc = g->cap ? 2 * g->cap : 64;
+        lc_ray_record *p = realloc(g->r, nc * sizeof *p);
+        if (p)
+            g->r = p;
+        double *b = p ? realloc(g->before, 3 * nc * sizeof *b) : NULL;
+        if (!b) {
+            g->failed = 1;
+            return -1;
+        }
+        g->before = b;
+        g->cap = nc;
+    }
+    lc_ray_record *x = &g->r[g->n];
+    memset(x, 0, sizeof *x);
+    x->parent = parent;
+    x->kind = kind;
+    x->origin = r->o;
+    x->direction = r->d;
+    x->shape_kind = -1;
+    x->shape = -1;
+    x->material = -1;
+    return (int)g->n++;
+}
+
+void explain_hit(ray_log *g, const lc_scene *s, int rec, const lc_hit *h, lc_vec3 n,
+                 radiance w, radiance acc)
+{
+    if (rec < 0)
+        return;
+    g->parent = rec;
+    g->w = w;
+    double *b = g->before + 3 * rec;
+    b[0] = acc.r, b[1] = acc.g, b[2] = acc.b;
+    if (!h)                                  /* a miss: the background */
+        return;
+    lc_ray_record *x = &g->r[rec];
+    x->hit = 1;
+    x->distance = h->t;
+    x->point = h->p;
+    x->normal = n;
+    x->shape_kind = shape_kind_of_prim(PRIM_KIND(h->shape));
+    x->shape = PRIM_INDEX(h->shape);
+    if (PRIM_KIND(h->shape) == PRIM_TRIANGLE)
+        x->shape = s->c.tris[x->shape].face;
+    x->material = h->material;
+}
+
+int explain_shadow(ray_log *g, lc_ray_kind kind, const lc_ray *r, int light,
+                   double distance)
+{
+    int rec = explain_ray(g, g->parent, kind, r);
+    if (rec >= 0) {
+        g->r[rec].light = light;
+        g->r[rec].distance = distance;
+    }
+    return rec;
+}
+
+void explain_visible(ray_log *g, int rec)
+{
+    if (rec >= 0)
+        g->r[rec].hit = 1;
+}
+
+void explain_light(ray_log *g, int rec, const lc_material *m, radiance d, radiance sp)
+{
+    if (rec < 0)
+        return;
+    radiance c = rad(m->color), share;
+    d = r_scale(d, m->kd);
+    sp = r_scale(sp, m->ks);
+    share = m->absorb == LC_ABSORB_ALL ? r_mul(c, r_add(d, sp)) : r_add(r_mul(c, d), sp);
+    share = r_mul(g->w, share);
+    g->r[rec].contribution = rgb((float)share.r, (float)share.g, (float)share.b);
+}
+
+void explain_path(ray_log *g, int first, int last, radiance acc)
+{
+    for (int i = last; i >= 0; i = g->r[i].parent) {
+        lc_ray_record *x = &g->r[i];
+        const double *b = g->before + 3 * i;
+        if (x->kind != LC_RAY_SHADOW && x->kind != LC_RAY_LIGHT)
+            x->contribution = rgb((float)(acc.r - b[0]), (float)(acc.g - b[1]),
+                                  (float)(acc.b - b[2]));
+        if (i == first)
+            break;
+    }
+}

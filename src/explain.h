@@ -1,0 +1,38 @@
+/* explain.h: recording the rays one sample traces, for lc_scene_explain. The
+** tracer calls these only when it has a log: one NULL test while rendering. */
+#ifndef LC_EXPLAIN_H
+#define LC_EXPLAIN_H
+
+#include "radiance.h"
+#include "scene.h"
+
+typedef struct {
+    lc_ray_record *r;
+    double *before;          /* 3 per record: the pixel's sum before that ray */
+    size_t n, cap;
+    int failed;              /* out of memory: the rest is not recorded */
+    int parent;              /* the record of the ray being shaded */
+    radiance w;              /* that ray's weight in the pixel */
+} ray_log;
+
+void explain_free(ray_log *g);            /* what recording kept, but records */
+/* Appends a record of ray r from record parent (-1: the camera ray's);
+** returns its index, or -1 once out of memory. */
+int  explain_ray(ray_log *g, int parent, lc_ray_kind kind, const lc_ray *r);
+/* The path's ray `rec` met h (n faces the viewer): from here on, what is
+** added counts for it, with weight w; acc is the pixel's sum so far. */
+void explain_hit(ray_log *g, const lc_scene *s, int rec, const lc_hit *h, lc_vec3 n,
+                 radiance w, radiance acc);
+/* A shadow ray toward `light` (i: point light i; -1 - e: emitter e) from
+** the ray being shaded, as far as distance; returns its record or -1. */
+int  explain_shadow(ray_log *g, lc_ray_kind kind, const lc_ray *r, int light,
+                    double distance);
+void explain_visible(ray_log *g, int rec);
+/* The light that shadow ray `rec` brings: diffuse d and specular sp before
+** the material's coefficients, in the pixel. */
+void explain_light(ray_log *g, int rec, const lc_material *m, radiance d, radiance sp);
+/* The path from record first to record last brought back acc: each camera,
+** reflection or cone ray on it gets what was added from its own hit on. */
+void explain_path(ray_log *g, int first, int last, radiance acc);
+
+#endif
