@@ -16,7 +16,7 @@ lc_status adaptive_init(adaptive *a, const lc_render_options *o, lc_error *err)
     a->active = malloc(np);
     if (!a->sum || !a->n || !a->active) {
         adaptive_free(a);
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory for adaptive sampling of "
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory for adaptive sampling of "
                        "%zu pixels", np);
     }
     memset(a->active, 1, np);

@@ -16,7 +16,7 @@ lc_status box_check(const lc_shape *s, lc_error *err)
         return LC_EARG;
     lc_vec3 nu = v3_norm(s->u), nv = v3_norm(s->v), nw = v3_norm(s->w);
     if (!(fabs(v3_dot(v3_cross(nu, nv), nw)) > PARALLEL_SIN))
-        return lc_fail(err, LC_EARG, "w", "'u', 'v' and 'w' must not be coplanar");
+        return error_fail(err, LC_EARG, "w", "'u', 'v' and 'w' must not be coplanar");
     return LC_OK;
 }
 
@@ -95,7 +95,7 @@ static double comp(lc_vec3 v, int i) { return i == 0 ? v.x : i == 1 ? v.y : v.z;
 ** parallel ray) is ignored by the comparisons. One interval for the whole
 ** solid means one normal per hit: no seam where two faces meet, and ties
 ** at edges go to the lowest axis. */
-static double slabs(const box_geom *g, const lc_ray *r, const double *rinv, double tmin,
+static double slabs(const box_geom *g, const ray *r, const double *rinv, double tmin,
                     double tmax, int *axis_out, int *hi_out)
 {
     lc_vec3 o = r->o, d = r->d;
@@ -142,20 +142,20 @@ static double slabs(const box_geom *g, const lc_ray *r, const double *rinv, doub
     return 0;
 }
 
-double box_t(const box_geom *g, const lc_ray *r, const double *inv, double tmin,
+double box_t(const box_geom *g, const ray *r, const double *inv, double tmin,
              double tmax)
 {
     int axis, at_hi;
     return slabs(g, r, inv, tmin, tmax, &axis, &at_hi);
 }
 
-int box_hit(const box_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+int box_hit(const box_geom *g, const ray *r, double tmin, double tmax, hit *h)
 {
     return box_hit_inv(g, r, NULL, tmin, tmax, h);
 }
 
-int box_hit_inv(const box_geom *g, const lc_ray *r, const double *inv, double tmin,
-                double tmax, lc_hit *h)
+int box_hit_inv(const box_geom *g, const ray *r, const double *inv, double tmin,
+                double tmax, hit *h)
 {
     int axis, at_hi;
     double t = slabs(g, r, inv, tmin, tmax, &axis, &at_hi);
@@ -173,7 +173,7 @@ int box_hit_inv(const box_geom *g, const lc_ray *r, const double *inv, double tm
         ** the error bound covers it so spawned rays clear the face. */
         lc_vec3 n = g->row[axis];
         p = plane_snap(p, n, v3_dot(n, g->q) + (at_hi ? 1 : 0), -1, 0, &perr);
-        double e = lc_gamma(16) * (v3_max_abs(p) + v3_max_abs(g->q));
+        double e = vec_gamma(16) * (v3_max_abs(p) + v3_max_abs(g->q));
         perr = v3_add(perr, v3(e, e, e));
     }
     h->t = t;

@@ -277,13 +277,13 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, lc_error *err)
     }
     if (n > 0xffffffffu) {
         free(items);
-        return lc_fail(err, LC_EARG, NULL, "too many primitives: %zu", n);
+        return error_fail(err, LC_EARG, NULL, "too many primitives: %zu", n);
     }
     builder bd = {b, n / 3 + 64, items, 0};
     b->nodes = malloc(bd.cap * sizeof *b->nodes);
     if (!b->nodes) {
         free(items);
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
                        "primitives", n);
     }
     box3 all, cb;
@@ -375,7 +375,7 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, lc_error *err)
     if (bd.failed) {
         free(items);
         bvh_free(b);
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
                        "primitives", n);
     }
     /* The items' order is the leaves' order; keep only the ids, in place. */

@@ -41,7 +41,7 @@ static void concentric_disc(const double u[2], double *x, double *y)
     *y = r * sin(phi);
 }
 
-void camera_lens(const camera_frame *cf, lc_ray *r, const double u[2])
+void camera_lens(const camera_frame *cf, ray *r, const double u[2])
 {
     double lx, ly;
     concentric_disc(u, &lx, &ly);
@@ -54,11 +54,11 @@ void camera_lens(const camera_frame *cf, lc_ray *r, const double u[2])
     r->d = v3_norm(v3_sub(p, o));
 }
 
-lc_ray camera_ray(const camera_frame *cf, double px, double py)
+ray camera_ray(const camera_frame *cf, double px, double py)
 {
     double sx = (2 * px / cf->w - 1) * cf->tx;
     double sy = (1 - 2 * py / cf->h) * cf->ty;
-    lc_ray r;
+    ray r;
     r.o = cf->o;
     r.d = v3_norm(v3_add(cf->f, v3_add(v3_mul(cf->r, sx), v3_mul(cf->u, sy))));
     return r;

@@ -15,11 +15,11 @@ typedef struct {
 void   camera_frame_init(const lc_camera *c, int width, int height, camera_frame *cf);
 /* (px, py): image coordinates, x from the left, y from the top; pixel (i, j)
 ** covers [i, i+1) x [j, j+1), so its centre is (i + 0.5, j + 0.5). */
-lc_ray camera_ray(const camera_frame *cf, double px, double py);
+ray camera_ray(const camera_frame *cf, double px, double py);
 /* The distance to the plane in focus: the camera's, or |at - from|. */
 double camera_focus(const lc_camera *c);
 /* Moves the ray's origin to the lens point u (in [0, 1)^2) and aims it at
 ** the point it saw on the plane in focus (thin lens). */
-void   camera_lens(const camera_frame *cf, lc_ray *r, const double u[2]);
+void   camera_lens(const camera_frame *cf, ray *r, const double u[2]);
 
 #endif

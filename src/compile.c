@@ -9,7 +9,7 @@
 #include "clock.h"
 #include "camera.h"
 
-void compiled_free(compiled *c)
+void compile_free(compiled *c)
 {
     free(c->plan);
     free(c->tris);
@@ -22,23 +22,23 @@ void compiled_free(compiled *c)
 static lc_status list_triangles(lc_scene *s, lc_error *err)
 {
     compiled *c = &s->c;
-    size_t total = instances_faces(s);         /* listed once, after the flat ones */
+    size_t total = instance_faces(s);         /* listed once, after the flat ones */
     for (size_t i = 0; i < s->nmeshes; i++)
         if (!s->meshes[i].xf)
             total += s->meshes[i].mesh->nf;
     if (total > PRIM_MAX)
-        return lc_fail(err, LC_EARG, NULL, "too many triangles: %zu (at most %zu)", total,
+        return error_fail(err, LC_EARG, NULL, "too many triangles: %zu (at most %zu)", total,
                        PRIM_MAX);
     c->tris = malloc((total + 1) * sizeof *c->tris);
     if (!c->tris)
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory listing %zu triangles", total);
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory listing %zu triangles", total);
     for (size_t i = 0; i < s->nmeshes; i++) {
         const lc_mesh *m = s->meshes[i].mesh;
         if (s->meshes[i].xf)
             continue;
         for (size_t f = 0; f < m->nf; f++) {
             const uint32_t *ix = m->f + 3 * f;
-            if (tri_degenerate(m->v + 3 * ix[0], m->v + 3 * ix[1], m->v + 3 * ix[2])) {
+            if (triangle_degenerate(m->v + 3 * ix[0], m->v + 3 * ix[1], m->v + 3 * ix[2])) {
                 c->degenerate++;
                 continue;
             }
@@ -47,7 +47,7 @@ static lc_status list_triangles(lc_scene *s, lc_error *err)
         }
     }
     c->nflat = c->ntris;
-    return instances_compile(s, err);
+    return instance_compile(s, err);
 }
 
 static lc_status build_bvh(lc_scene *s, lc_error *err)
@@ -59,7 +59,7 @@ static lc_status build_bvh(lc_scene *s, lc_error *err)
             n += s->shapes[k].n;
     bvh_item *items = malloc((n + 1) * sizeof *items);
     if (!items)
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory bounding %zu primitives", n);
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory bounding %zu primitives", n);
     bvh_item *it = items;
     for (int k = 0; k < LC_SHAPE_KINDS; k++) {
         const shape_list *l = &s->shapes[k];
@@ -74,7 +74,7 @@ static lc_status build_bvh(lc_scene *s, lc_error *err)
         const lc_mesh *m = s->meshes[c->tris[i].mesh].mesh;
         const uint32_t *ix = m->f + 3 * c->tris[i].face;
         it->id = PRIM_ID(PRIM_TRIANGLE, i);
-        tri_bounds(m->v + 3 * ix[0], m->v + 3 * ix[1], m->v + 3 * ix[2], it->lo, it->hi);
+        triangle_bounds(m->v + 3 * ix[0], m->v + 3 * ix[1], m->v + 3 * ix[2], it->lo, it->hi);
     }
     for (size_t i = 0; i < s->nmeshes; i++)
         if (s->meshes[i].xf) {
@@ -93,7 +93,7 @@ static int material_cone(const lc_material *m, const lc_render_options *o)
     return o->glossy && sin(m->glossiness * (PI / 180)) > DBL_EPSILON;
 }
 
-int render_depth(const lc_scene *s, const lc_render_options *o)
+int compile_depth(const lc_scene *s, const lc_render_options *o)
 {
     return o && o->max_depth >= 0 ? o->max_depth : s->settings.max_depth;
 }
@@ -120,7 +120,7 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     free(c->plan);
     c->plan = calloc(s->nmaterials + 1, 1);
     if (!c->plan)
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory planning %zu materials",
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory planning %zu materials",
                        s->nmaterials);
     unsigned char *used = c->plan;          /* 1 = in use, before the plans */
     for (int k = 0; k < LC_SHAPE_KINDS; k++)
@@ -141,7 +141,7 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
         if (m->kr > 0 && material_cone(m, o)) count(&gloss, i);
         if (m->ka > 0) count(&amb, i);
     }
-    int depth = render_depth(s, o);
+    int depth = compile_depth(s, o);
     int lights = s->nlights > 0 || s->nemitters > 0;
     int ambient = !c_is_black(s->settings.ambient);
     int area = o->light_samples > 0;
@@ -239,7 +239,7 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     return LC_OK;
 }
 
-lc_status scene_compile(lc_scene *s, const lc_render_options *o, lc_error *err)
+lc_status compile_scene(lc_scene *s, const lc_render_options *o, lc_error *err)
 {
     compiled *c = &s->c;
     size_t faces = 0;
@@ -247,22 +247,22 @@ lc_status scene_compile(lc_scene *s, const lc_render_options *o, lc_error *err)
         faces += s->meshes[i].mesh->nf;
     double t0 = clock_seconds();
     if (!c->valid || c->faces_seen != faces) {     /* geometry changed since */
-        compiled_free(c);
+        compile_free(c);
         lc_status st = list_triangles(s, err);
         if (st == LC_OK)
             st = build_bvh(s, err);
         if (st != LC_OK) {
-            compiled_free(c);
+            compile_free(c);
             return st;
         }
         c->valid = 1;
         c->faces_seen = faces;
     }
     if (decide_needs(s, o, err)) {
-        compiled_free(c);
+        compile_free(c);
         return LC_ENOMEM;
     }
     c->seconds = clock_seconds() - t0;
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }

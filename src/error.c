@@ -4,7 +4,7 @@
 #include <string.h>
 #include "error.h"
 
-lc_status lc_fail(lc_error *err, lc_status code, const char *field, const char *fmt, ...)
+lc_status error_fail(lc_error *err, lc_status code, const char *field, const char *fmt, ...)
 {
     if (err) {
         va_list ap;
@@ -17,7 +17,7 @@ lc_status lc_fail(lc_error *err, lc_status code, const char *field, const char *
     return code;
 }
 
-void lc_ok(lc_error *err)
+void error_ok(lc_error *err)
 {
     if (err) {
         err->code = LC_OK;

@@ -5,14 +5,14 @@
 #include "lancer.h"
 
 #if defined(__GNUC__)
-#define LC_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#define PRINTF_LIKE(a, b) __attribute__((format(printf, a, b)))
 #else
-#define LC_PRINTF(a, b)
+#define PRINTF_LIKE(a, b)
 #endif
 
 /* Returns code; err may be NULL. field may be NULL when no input field is at fault. */
-lc_status lc_fail(lc_error *err, lc_status code, const char *field, const char *fmt, ...)
-    LC_PRINTF(4, 5);
-void lc_ok(lc_error *err);
+lc_status error_fail(lc_error *err, lc_status code, const char *field, const char *fmt, ...)
+    PRINTF_LIKE(4, 5);
+void error_ok(lc_error *err);
 
 #endif

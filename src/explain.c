@@ -10,7 +10,7 @@ void explain_free(ray_log *g)
     g->before = NULL;
 }
 
-int explain_ray(ray_log *g, int parent, lc_ray_kind kind, const lc_ray *r)
+int explain_ray(ray_log *g, int parent, lc_ray_kind kind, const ray *r)
 {
     if (g->failed)
         return -1;
@@ -39,7 +39,7 @@ int explain_ray(ray_log *g, int parent, lc_ray_kind kind, const lc_ray *r)
     return (int)g->n++;
 }
 
-void explain_hit(ray_log *g, const lc_scene *s, int rec, const lc_hit *h, lc_vec3 n,
+void explain_hit(ray_log *g, const lc_scene *s, int rec, const hit *h, lc_vec3 n,
                  radiance w, radiance acc)
 {
     if (rec < 0)
@@ -62,7 +62,7 @@ void explain_hit(ray_log *g, const lc_scene *s, int rec, const lc_hit *h, lc_vec
     x->material = h->material;
 }
 
-int explain_shadow(ray_log *g, lc_ray_kind kind, const lc_ray *r, int light,
+int explain_shadow(ray_log *g, lc_ray_kind kind, const ray *r, int light,
                    double distance)
 {
     int rec = explain_ray(g, g->parent, kind, r);

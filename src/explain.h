@@ -18,14 +18,14 @@ typedef struct {
 void explain_free(ray_log *g);            /* what recording kept, but records */
 /* Appends a record of ray r from record parent (-1: the camera ray's);
 ** returns its index, or -1 once out of memory. */
-int  explain_ray(ray_log *g, int parent, lc_ray_kind kind, const lc_ray *r);
+int  explain_ray(ray_log *g, int parent, lc_ray_kind kind, const ray *r);
 /* The path's ray `rec` met h (n faces the viewer): from here on, what is
 ** added counts for it, with weight w; acc is the pixel's sum so far. */
-void explain_hit(ray_log *g, const lc_scene *s, int rec, const lc_hit *h, lc_vec3 n,
+void explain_hit(ray_log *g, const lc_scene *s, int rec, const hit *h, lc_vec3 n,
                  radiance w, radiance acc);
 /* A shadow ray toward `light` (i: point light i; -1 - e: emitter e) from
 ** the ray being shaded, as far as distance; returns its record or -1. */
-int  explain_shadow(ray_log *g, lc_ray_kind kind, const lc_ray *r, int light,
+int  explain_shadow(ray_log *g, lc_ray_kind kind, const ray *r, int light,
                     double distance);
 void explain_visible(ray_log *g, int rec);
 /* The light that shadow ray `rec` brings: diffuse d and specular sp before

@@ -8,13 +8,13 @@
 lc_image *lc_image_new(int width, int height, lc_error *err)
 {
     if (width < 1 || height < 1 || width > LC_MAX_SIDE || height > LC_MAX_SIDE) {
-        lc_fail(err, LC_EARG, width < 1 || width > LC_MAX_SIDE ? "width" : "height",
+        error_fail(err, LC_EARG, width < 1 || width > LC_MAX_SIDE ? "width" : "height",
                 "image size must be 1..%d per side, got %dx%d", LC_MAX_SIDE, width, height);
         return NULL;
     }
     size_t n = (size_t)width * (size_t)height;      /* both <= 65536: no overflow */
     if (n > LC_MAX_PIXELS) {
-        lc_fail(err, LC_EARG, "width", "image of %dx%d exceeds %zu pixels",
+        error_fail(err, LC_EARG, "width", "image of %dx%d exceeds %zu pixels",
                 width, height, LC_MAX_PIXELS);
         return NULL;
     }
@@ -23,13 +23,13 @@ lc_image *lc_image_new(int width, int height, lc_error *err)
     if (!img || !px) {
         free(img);
         free(px);
-        lc_fail(err, LC_ENOMEM, NULL, "out of memory for a %dx%d image", width, height);
+        error_fail(err, LC_ENOMEM, NULL, "out of memory for a %dx%d image", width, height);
         return NULL;
     }
     img->width = width;
     img->height = height;
     img->px = px;
-    lc_ok(err);
+    error_ok(err);
     return img;
 }
 
@@ -119,7 +119,7 @@ lc_status lc_image_compare(const lc_image *a, const lc_image *b, double tol,
                            lc_image_diff *d, lc_error *err)
 {
     if (a->width != b->width || a->height != b->height)
-        return lc_fail(err, LC_EARG, "image", "sizes differ: %dx%d and %dx%d", a->width,
+        return error_fail(err, LC_EARG, "image", "sizes differ: %dx%d and %dx%d", a->width,
                        a->height, b->width, b->height);
     size_t n = (size_t)a->width * a->height;
     double sum = 0, worst = 0;
@@ -143,7 +143,7 @@ lc_status lc_image_compare(const lc_image *a, const lc_image *b, double tol,
     d->within = (double)ok / n;
     d->worst_x = (int)(wi % a->width);
     d->worst_y = (int)(wi / a->width);
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }
 
@@ -162,7 +162,7 @@ static lc_status same_size(const lc_image *a, const lc_image *b, const char *wha
                            lc_error *err)
 {
     if (a->width != b->width || a->height != b->height)
-        return lc_fail(err, LC_EARG, "image", "%s sizes differ: %dx%d and %dx%d", what,
+        return error_fail(err, LC_EARG, "image", "%s sizes differ: %dx%d and %dx%d", what,
                        a->width, a->height, b->width, b->height);
     return LC_OK;
 }
@@ -188,20 +188,20 @@ lc_status lc_image_error(const lc_image *img, const lc_image *ref,
     out->relmse = rel / n;
     out->mae = ae / n;
     out->bias = sum / n;
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }
 
 lc_status lc_image_add(lc_image *img, const lc_image *other, double weight, lc_error *err)
 {
     if (!isfinite(weight))
-        return lc_fail(err, LC_EARG, "weight", "weight must be finite, got %g", weight);
+        return error_fail(err, LC_EARG, "weight", "weight must be finite, got %g", weight);
     lc_status st = same_size(img, other, "image", err);
     if (st)
         return st;
     size_t n = 3 * (size_t)img->width * img->height;
     for (size_t i = 0; i < n; i++)
         img->px[i] = (float)(img->px[i] + weight * other->px[i]);
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }

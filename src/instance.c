@@ -36,14 +36,14 @@ lc_status instance_xf_make(const lc_transform *t, instance_xf *x, lc_error *err)
     lc_transform p = lc_transform_compose(t, &x->inv);
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
-            res[i][j] = fabs(p.m[i][j] - (i == j)) + lc_gamma(3) * mi[i][j];
-    double g = lc_gamma(4);
+            res[i][j] = fabs(p.m[i][j] - (i == j)) + vec_gamma(3) * mi[i][j];
+    double g = vec_gamma(4);
     double s0[3];
     for (int i = 0; i < 3; i++) {
         double mt = fabs(t->m[i][0]) * fabs(x->inv.m[0][3]) +
                     fabs(t->m[i][1]) * fabs(x->inv.m[1][3]) +
                     fabs(t->m[i][2]) * fabs(x->inv.m[2][3]);
-        double rt = fabs(p.m[i][3]) + lc_gamma(3) * (mt + fabs(t->m[i][3]));
+        double rt = fabs(p.m[i][3]) + vec_gamma(3) * (mt + fabs(t->m[i][3]));
         s0[i] = 2 * (g * (mt + fabs(t->m[i][3])) + rt);
         for (int j = 0; j < 3; j++)
             x->slack[i][j] = 2 * (g * mi[i][j] + res[i][j]);
@@ -76,15 +76,12 @@ static lc_vec3 vmax(lc_vec3 a, lc_vec3 b)
 
 /* ---- the per-mesh BVH cache -------------------------------------------------- */
 
-static int face_degenerate(const lc_mesh *m, size_t f)
+/* Face f's three vertices. */
+static void face_vertices(const lc_mesh *m, size_t f, const double *v[3])
 {
     const uint32_t *ix = m->f + 3 * f;
-    const double *a = m->v + 3 * (size_t)ix[0], *b = m->v + 3 * (size_t)ix[1];
-    const double *c = m->v + 3 * (size_t)ix[2];
-    lc_vec3 p = v3(a[0], a[1], a[2]);
-    lc_vec3 n = v3_cross(v3_sub(v3(b[0], b[1], b[2]), p), v3_sub(v3(c[0], c[1], c[2]), p));
-    double l = v3_dot(n, n);
-    return !(l > 0 && isfinite(l));
+    for (int j = 0; j < 3; j++)
+        v[j] = m->v + 3 * (size_t)ix[j];
 }
 
 static void blas_clear(mesh_bvh *mb)
@@ -101,39 +98,26 @@ static lc_status blas_build(mesh_bvh *mb, lc_error *err)
     const lc_mesh *m = mb->mesh;
     blas_clear(mb);
     mb->faces = m->nf;
-    for (int k = 0; k < 3; k++) {
-        mb->lo[k] = HUGE_VALF;
-        mb->hi[k] = -HUGE_VALF;
-    }
+    bvh_bounds_empty(mb->lo, mb->hi);
     mb->face = malloc((m->nf + 1) * sizeof *mb->face);
     bvh_item *items = malloc((m->nf + 1) * sizeof *items);
     if (!mb->face || !items) {
         free(items);
         blas_clear(mb);
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory bounding a mesh of %zu faces",
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory bounding a mesh of %zu faces",
                        m->nf);
     }
     size_t n = 0;
     for (size_t f = 0; f < m->nf; f++) {
-        if (face_degenerate(m, f)) {
+        const double *v[3];
+        face_vertices(m, f, v);
+        if (triangle_degenerate(v[0], v[1], v[2])) {
             mb->degenerate++;
             continue;
         }
         bvh_item *it = &items[n];
         it->id = (uint32_t)n;
-        for (int k = 0; k < 3; k++) {
-            it->lo[k] = HUGE_VALF;
-            it->hi[k] = -HUGE_VALF;
-        }
-        const uint32_t *ix = m->f + 3 * f;
-        for (int j = 0; j < 3; j++) {   /* vertices are exact doubles: no ulp needed */
-            const double *v = m->v + 3 * (size_t)ix[j];
-            for (int a = 0; a < 3; a++) {
-                float fl = bvh_down(v[a]), fh = bvh_up(v[a]);
-                if (fl < it->lo[a]) it->lo[a] = fl;
-                if (fh > it->hi[a]) it->hi[a] = fh;
-            }
-        }
+        triangle_bounds(v[0], v[1], v[2], it->lo, it->hi);
         for (int a = 0; a < 3; a++) {
             if (it->lo[a] < mb->lo[a]) mb->lo[a] = it->lo[a];
             if (it->hi[a] > mb->hi[a]) mb->hi[a] = it->hi[a];
@@ -155,7 +139,7 @@ static mesh_bvh *blas_find(lc_scene *s, const lc_mesh *m)
     return NULL;
 }
 
-void instances_free(lc_scene *s)
+void instance_free_all(lc_scene *s)
 {
     for (size_t i = 0; i < s->nblas; i++) {
         blas_clear(&s->blas[i]);
@@ -166,7 +150,7 @@ void instances_free(lc_scene *s)
     s->nblas = s->capblas = 0;
 }
 
-size_t instances_faces(const lc_scene *s)
+size_t instance_faces(const lc_scene *s)
 {
     size_t total = 0;
     for (size_t i = 0; i < s->nmeshes; i++) {
@@ -182,7 +166,7 @@ size_t instances_faces(const lc_scene *s)
     return total;
 }
 
-lc_status instances_compile(lc_scene *s, lc_error *err)
+lc_status instance_compile(lc_scene *s, lc_error *err)
 {
     compiled *c = &s->c;
     for (size_t i = 0; i < s->nblas; i++)
@@ -198,7 +182,7 @@ lc_status instances_compile(lc_scene *s, lc_error *err)
                 size_t nc = s->capblas ? 2 * s->capblas : 8;
                 mesh_bvh *p = realloc(s->blas, nc * sizeof *p);
                 if (!p)
-                    return lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh BVH");
+                    return error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh BVH");
                 s->blas = p;
                 s->capblas = nc;
             }
@@ -276,25 +260,25 @@ void instance_bounds(const lc_scene *s, size_t i, float lo[3], float hi[3])
 /* ---- tracing ----------------------------------------------------------------- */
 
 typedef struct {
-    lc_ray    r;           /* in object space: d is not unit, so t is the world's */
+    ray    r;           /* in object space: d is not unit, so t is the world's */
     bvh_ray   b;
-    tri_shear sh;
+    triangle_shear sh;
 } object_ray;
 
-static void object_ray_init(object_ray *q, const instance_xf *x, const lc_ray *r)
+static void object_ray_init(object_ray *q, const instance_xf *x, const ray *r)
 {
     q->r.o = lc_transform_point(&x->inv, r->o);
     q->r.d = lc_transform_vector(&x->inv, r->d);
     bvh_ray_init(&q->b, q->r.o, q->r.d);
-    tri_shear_init(q->r.d, &q->sh);
+    triangle_shear_init(q->r.d, &q->sh);
 }
 
 static inline int face_hit(const lc_mesh *m, uint32_t f, const object_ray *q, double tmax,
-                           lc_hit *h)
+                           hit *h)
 {
     const uint32_t *ix = m->f + 3 * (size_t)f;
     const double *v = m->v;
-    return tri_hit(v + 3 * (size_t)ix[0], v + 3 * (size_t)ix[1], v + 3 * (size_t)ix[2],
+    return triangle_hit(v + 3 * (size_t)ix[0], v + 3 * (size_t)ix[1], v + 3 * (size_t)ix[2],
                    &q->r, &q->sh, 0, tmax, h, h->bary);
 }
 
@@ -302,7 +286,7 @@ static inline int face_hit(const lc_mesh *m, uint32_t f, const object_ray *q, do
 ** vertices, its error bound with the transforms' slack, normals by the
 ** inverse transpose. */
 static void to_world(const mesh_prim *mp, const mesh_bvh *mb,
-                     uint32_t k, lc_hit *h)
+                     uint32_t k, hit *h)
 {
     const instance_xf *x = mp->xf;
     const lc_mesh *m = mp->mesh;
@@ -317,7 +301,7 @@ static void to_world(const mesh_prim *mp, const mesh_bvh *mb,
         big = vmax(big, v3_abs(w));
     }
     h->p = p;
-    h->perr = v3_add(v3_mul(sum, lc_gamma(7)), slack_at(x, vmax(big, v3_abs(p))));
+    h->perr = v3_add(v3_mul(sum, vec_gamma(7)), slack_at(x, vmax(big, v3_abs(p))));
     h->n = v3_norm(mat3_apply(x->nrm, h->n));
     h->ns = h->n;
     if (m->n) {
@@ -345,7 +329,7 @@ typedef struct {
     const object_ray *q;
     double   best;          /* 0: nothing yet */
     uint32_t best_k;
-    lc_hit  *h, *tmp;
+    hit  *h, *tmp;
     uint64_t np;
 } face_search;
 
@@ -363,8 +347,8 @@ static inline double closest_face(void *ctx, uint32_t k, double tmax)
     return tmax;
 }
 
-double instance_hit(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
-                    lc_hit *h, bvh_counts *counts)
+double instance_hit(const lc_scene *s, uint32_t i, const ray *r, double tmax,
+                    hit *h, bvh_counts *counts)
 {
     const mesh_prim *mp = &s->meshes[i];
     const mesh_bvh *mb = &s->blas[mp->blas];
@@ -372,7 +356,7 @@ double instance_hit(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
         return 0;
     object_ray q;
     object_ray_init(&q, mp->xf, r);
-    lc_hit tmp;
+    hit tmp;
     face_search c = {mp->mesh, mb, &q, 0, 0, h, &tmp, 0};
     counts->nodes += bvh_closest(&mb->bvh, &q.b, tmax, &c, closest_face);
     counts->prims += c.np;
@@ -390,7 +374,7 @@ static inline int any_face(void *ctx, uint32_t k, double tmax)
     return face_hit(c->mesh, c->mb->face[k], c->q, tmax, c->tmp);
 }
 
-int instance_occluded(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
+int instance_occluded(const lc_scene *s, uint32_t i, const ray *r, double tmax,
                       bvh_counts *counts)
 {
     const mesh_prim *mp = &s->meshes[i];
@@ -399,7 +383,7 @@ int instance_occluded(const lc_scene *s, uint32_t i, const lc_ray *r, double tma
         return 0;
     object_ray q;
     object_ray_init(&q, mp->xf, r);
-    lc_hit tmp;
+    hit tmp;
     face_search c = {mp->mesh, mb, &q, 0, 0, NULL, &tmp, 0};
     int found = bvh_any(&mb->bvh, &q.b, tmax, &c, any_face, &counts->nodes);
     counts->prims += c.np;

@@ -9,17 +9,17 @@
 #define PLANES(s)  ((const plane_geom *)(s)->shapes[LC_PLANE].geom)
 
 typedef struct {
-    const lc_ray *r;      /* a pointer: copying the ray stalled on store forwarding */
+    const ray *r;      /* a pointer: copying the ray stalled on store forwarding */
     bvh_ray   b;
-    tri_shear sh;
+    triangle_shear sh;
 } query;
 
-static void query_init(query *q, const lc_ray *r, int triangles)
+static void query_init(query *q, const ray *r, int triangles)
 {
     q->r = r;
     bvh_ray_init(&q->b, r->o, r->d);
     if (triangles)                      /* the shear only triangles use */
-        tri_shear_init(r->d, &q->sh);
+        triangle_shear_init(r->d, &q->sh);
 }
 
 /* Distance to primitive id along the query's ray, 0 for a miss. Spheres,
@@ -27,7 +27,7 @@ static void query_init(query *q, const lc_ray *r, int triangles)
 ** later); quads and triangles need most of the work anyway to know they
 ** are hit, so they fill *full as they go. */
 static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, double tmax,
-                     lc_hit *full, bvh_counts *inner)
+                     hit *full, bvh_counts *inner)
 {
     uint32_t i = PRIM_INDEX(id);
     switch (PRIM_KIND(id)) {
@@ -47,7 +47,7 @@ static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, doub
         const mesh_prim *mp = &s->meshes[tr->mesh];
         const uint32_t *f = mp->mesh->f + 3 * (size_t)tr->face;
         const double *v = mp->mesh->v;
-        if (!tri_hit(v + 3 * (size_t)f[0], v + 3 * (size_t)f[1], v + 3 * (size_t)f[2],
+        if (!triangle_hit(v + 3 * (size_t)f[0], v + 3 * (size_t)f[1], v + 3 * (size_t)f[2],
                      q->r, &q->sh, 0, tmax, full, full->bary))
             return 0;
         full->material = mp->material;
@@ -62,7 +62,7 @@ static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, doub
 }
 
 /* Fills *h for the nearest hit found by prim_t (at distance t). */
-static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t, lc_hit *h)
+static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t, hit *h)
 {
     uint32_t i = PRIM_INDEX(id);
     double tmax = next_up(t);               /* the same test finds the same t */
@@ -89,7 +89,7 @@ static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t,
 }
 
 /* Interpolated vertex normals, where the mesh has them. */
-static void shading_normal(const lc_scene *s, lc_hit *h)
+static void shading_normal(const lc_scene *s, hit *h)
 {
     if (PRIM_KIND(h->shape) == PRIM_TRIANGLE && PRIM_INDEX(h->shape) >= s->c.nflat)
         return;                            /* an instance's: set in the world already */
@@ -122,7 +122,7 @@ typedef struct {
     const query *q;
     double   best;          /* 0: nothing yet */
     uint32_t best_id;
-    lc_hit  *h, *tmp;       /* the nearest quad or triangle found; scratch */
+    hit  *h, *tmp;       /* the nearest quad or triangle found; scratch */
     uint64_t np;            /* primitive tests */
     bvh_counts *inner;       /* inside instances */
 } closest;
@@ -144,11 +144,11 @@ static inline double closest_leaf(void *ctx, uint32_t id, double tmax)
     return tmax;
 }
 
-int scene_closest_n(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h,
+int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
                     bvh_counts *counts)
 {
     bvh_counts inner = {0, 0};
-    lc_hit tmp;
+    hit tmp;
     query q;
     query_init(&q, r, s->c.nflat > 0);
     const plane_geom *planes = PLANES(s);
@@ -177,9 +177,9 @@ int scene_closest_n(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h,
 typedef struct {
     const lc_scene *s;
     const query *q;
-    const lc_ray *r;
+    const ray *r;
     uint32_t skip;
-    lc_hit  *tmp;
+    hit  *tmp;
     uint64_t np, nn;
 } any;
 
@@ -200,7 +200,7 @@ static inline int any_leaf(void *ctx, uint32_t id, double tmax)
 }
 
 /* Any hit: the first primitive found in (0, tmax) ends the search. */
-static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint32_t skip,
+static int occluded(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
                     uint64_t *np, uint64_t *nn)
 {
     query q;
@@ -213,7 +213,7 @@ static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint32_t sk
             return 1;
         }
     *np += nplanes;
-    lc_hit tmp;
+    hit tmp;
     any a = {s, &q, r, skip, &tmp, 0, 0};
     int found = bvh_any(&s->c.bvh, &q.b, tmax, &a, any_leaf, &a.nn);
     *np += a.np;
@@ -221,12 +221,12 @@ static int occluded(const lc_scene *s, const lc_ray *r, double tmax, uint32_t sk
     return found;
 }
 
-int scene_occluded_n(const lc_scene *s, const lc_ray *r, double tmax, bvh_counts *counts)
+int intersect_occluded(const lc_scene *s, const ray *r, double tmax, bvh_counts *counts)
 {
-    return scene_occluded_skip(s, r, tmax, SCENE_SKIP_NONE, counts);
+    return intersect_occluded_skip(s, r, tmax, INTERSECT_SKIP_NONE, counts);
 }
 
-int scene_occluded_skip(const lc_scene *s, const lc_ray *r, double tmax, uint32_t skip,
+int intersect_occluded_skip(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
                         bvh_counts *counts)
 {
     uint64_t np = 0, nn = 0;

@@ -11,11 +11,11 @@ lc_mesh *lc_mesh_new(lc_error *err)
 {
     lc_mesh *m = calloc(1, sizeof *m);
     if (!m) {
-        lc_fail(err, LC_ENOMEM, NULL, "out of memory creating a mesh");
+        error_fail(err, LC_ENOMEM, NULL, "out of memory creating a mesh");
         return NULL;
     }
     m->refs = 1;
-    lc_ok(err);
+    error_ok(err);
     return m;
 }
 
@@ -58,15 +58,15 @@ static lc_status add_points(lc_mesh *m, double **arr, size_t *n, size_t *cap,
 {
     for (size_t i = 0; i < 3 * count; i++)
         if (!isfinite(xyz[i]))
-            return lc_fail(err, LC_EARG, what, "%s %zu: component %zu must be finite, got %g",
+            return error_fail(err, LC_EARG, what, "%s %zu: component %zu must be finite, got %g",
                            what, *n + i / 3 + 1, i % 3 + 1, xyz[i]);
     if (!reserve((void **)arr, cap, *n, count, 3, sizeof **arr))
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory: mesh of %zu %s", *n + count,
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory: mesh of %zu %s", *n + count,
                        what);
     memcpy(*arr + 3 * *n, xyz, 3 * count * sizeof **arr);
     *n += count;
     (void)m;
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }
 
@@ -79,7 +79,7 @@ lc_status lc_mesh_add_normals(lc_mesh *m, const double *xyz, size_t n, lc_error 
 {
     for (size_t i = 0; i < n; i++)
         if (xyz[3 * i] == 0 && xyz[3 * i + 1] == 0 && xyz[3 * i + 2] == 0)
-            return lc_fail(err, LC_EARG, "normals", "normal %zu is zero-length",
+            return error_fail(err, LC_EARG, "normals", "normal %zu is zero-length",
                            m->nn + i + 1);
     return add_points(m, &m->n, &m->nn, &m->capn, xyz, n, "normals", err);
 }
@@ -88,14 +88,14 @@ lc_status lc_mesh_add_faces(lc_mesh *m, const uint32_t *abc, size_t n, lc_error 
 {
     for (size_t i = 0; i < 3 * n; i++)
         if (abc[i] >= m->nv)
-            return lc_fail(err, LC_EARG, "faces", "face %zu: vertex index %lu is past the "
+            return error_fail(err, LC_EARG, "faces", "face %zu: vertex index %lu is past the "
                            "%zu vertices", m->nf + i / 3 + 1, (unsigned long)abc[i] + 1,
                            m->nv);
     if (!reserve((void **)&m->f, &m->capf, m->nf, n, 3, sizeof *m->f))
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory: mesh of %zu faces", m->nf + n);
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory: mesh of %zu faces", m->nf + n);
     memcpy(m->f + 3 * m->nf, abc, 3 * n * sizeof *abc);
     m->nf += n;
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }
 

@@ -122,7 +122,7 @@ static lc_status with_normals(lc_mesh *m, const dbuf *v, const dbuf *vn, const l
     uint32_t *tri = malloc(c->n * sizeof *tri);
     lc_status st = LC_OK;
     if (!key || !val || !tri) {
-        st = lc_fail(err, LC_ENOMEM, NULL, "out of memory reading a mesh");
+        st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading a mesh");
         goto done;
     }
     for (size_t i = 0; i < cap; i++)
@@ -155,7 +155,7 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
 {
     FILE *fp = fopen(path, "r");
     if (!fp) {
-        lc_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
+        error_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
         return NULL;
     }
     dbuf v = {0}, vn = {0};
@@ -174,10 +174,10 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
             int normal = s[1] == 'n';
             double x[3];
             if (!numbers(s + (normal ? 2 : 1), x))
-                st = lc_fail(err, LC_EARG, NULL, "%s:%zu: '%s' needs 3 finite numbers",
+                st = error_fail(err, LC_EARG, NULL, "%s:%zu: '%s' needs 3 finite numbers",
                              path, lineno, normal ? "vn" : "v");
             else if (!dpush(normal ? &vn : &v, x))
-                st = lc_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
+                st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
         } else if (strncmp(s, "f ", 2) == 0 || strncmp(s, "f\t", 2) == 0) {
             long first[2] = {0, 0}, prev[2] = {0, 0};
             int k = 0;
@@ -187,7 +187,7 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
                 long cur[2];
                 const char *why = NULL;
                 if (!corner(tok, v.n, vn.n, &cur[0], &cur[1], &why)) {
-                    st = lc_fail(err, LC_EARG, NULL, "%s:%zu: %s ('%s')", path, lineno, why,
+                    st = error_fail(err, LC_EARG, NULL, "%s:%zu: %s ('%s')", path, lineno, why,
                                  tok);
                     break;
                 }
@@ -197,17 +197,17 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
                     memcpy(first, cur, sizeof cur);
                 if (k >= 2 && (!lpush(&c, first[0], first[1]) || !lpush(&c, prev[0], prev[1]) ||
                                !lpush(&c, cur[0], cur[1])))
-                    st = lc_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
+                    st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
                 memcpy(prev, cur, sizeof cur);
             }
             if (st == LC_OK && k < 3)
-                st = lc_fail(err, LC_EARG, NULL, "%s:%zu: a face needs at least 3 vertices, "
+                st = error_fail(err, LC_EARG, NULL, "%s:%zu: a face needs at least 3 vertices, "
                              "got %d", path, lineno, k);
         }
         /* Anything else (vt, o, g, s, usemtl, mtllib, l, ...) is skipped. */
     }
     if (st == LC_OK && ferror(fp))
-        st = lc_fail(err, LC_EIO, "path", "cannot read '%s': %s", path, strerror(errno));
+        st = error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path, strerror(errno));
     free(line);
     fclose(fp);
     if (st == LC_OK && (m = lc_mesh_new(err)) == NULL)
@@ -218,7 +218,7 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
         } else {
             uint32_t *tri = malloc((c.n + 1) * sizeof *tri);
             if (!tri)
-                st = lc_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
+                st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
             for (size_t i = 0; st == LC_OK && i < c.n; i++)
                 tri[i] = (uint32_t)c.a[2 * i];
             if (st == LC_OK)
@@ -235,6 +235,6 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
         lc_mesh_free(m);
         return NULL;
     }
-    lc_ok(err);
+    error_ok(err);
     return m;
 }

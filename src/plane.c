@@ -65,26 +65,26 @@ lc_vec3 plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
         if (axis == 0) p.x = axis_value;
         else if (axis == 1) p.y = axis_value;
         else p.z = axis_value;
-        *perr = v3(axis == 0 ? 0 : lc_gamma(2) * fabs(p.x),
-                   axis == 1 ? 0 : lc_gamma(2) * fabs(p.y),
-                   axis == 2 ? 0 : lc_gamma(2) * fabs(p.z));
+        *perr = v3(axis == 0 ? 0 : vec_gamma(2) * fabs(p.x),
+                   axis == 1 ? 0 : vec_gamma(2) * fabs(p.y),
+                   axis == 2 ? 0 : vec_gamma(2) * fabs(p.z));
         return p;
     }
     double nn = v3_dot(n, n);
     p = v3_madd(p, n, -(v3_dot(n, p) - k) / nn);
     /* The residual of n.p - k is a few roundings of the largest term. */
-    double e = lc_gamma(8) * (m + fabs(k) / sqrt(nn));
-    *perr = v3_add(v3_mul(v3_abs(p), lc_gamma(2)), v3(e, e, e));
+    double e = vec_gamma(8) * (m + fabs(k) / sqrt(nn));
+    *perr = v3_add(v3_mul(v3_abs(p), vec_gamma(2)), v3(e, e, e));
     return p;
 }
 
-int plane_hit(const plane_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+int plane_hit(const plane_geom *g, const ray *r, double tmin, double tmax, hit *h)
 {
     return plane_hit_inv(g, r, NULL, tmin, tmax, h);
 }
 
-int plane_hit_inv(const plane_geom *g, const lc_ray *r, const double *inv, double tmin,
-                  double tmax, lc_hit *h)
+int plane_hit_inv(const plane_geom *g, const ray *r, const double *inv, double tmin,
+                  double tmax, hit *h)
 {
     double t = plane_t(g, r, inv, tmin, tmax);
     if (!(t > 0))

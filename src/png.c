@@ -36,13 +36,13 @@ static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &fail,
                                               on_png_error, on_png_warning);
     if (!png)
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory writing '%s'", path);
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory writing '%s'", path);
     png_infop info = png_create_info_struct(png);
     unsigned char *volatile row = NULL;
     if (!info || setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, info ? &info : NULL);
         free(row);
-        return lc_fail(err, LC_EIO, NULL, "cannot write '%s': %s", path,
+        return error_fail(err, LC_EIO, NULL, "cannot write '%s': %s", path,
                        fail.msg[0] ? fail.msg : "out of memory");
     }
     png_init_io(png, fp);
@@ -81,22 +81,22 @@ lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding e
 {
     size_t n = strlen(path);
     if (n == 0)
-        return lc_fail(err, LC_EARG, "path", "file name is empty");
+        return error_fail(err, LC_EARG, "path", "file name is empty");
     char *tmp = malloc(n + 16);
     if (!tmp)
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory writing '%s'", path);
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory writing '%s'", path);
     memcpy(tmp, path, n);
     memcpy(tmp + n, ".tmp-XXXXXX", 12);
     int fd = mkstemp(tmp);
     if (fd < 0) {
-        lc_status st = lc_fail(err, LC_EIO, "path", "cannot write '%s': %s", path,
+        lc_status st = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path,
                                strerror(errno));
         free(tmp);
         return st;
     }
     FILE *fp = fdopen(fd, "wb");
     if (!fp) {
-        lc_status st = lc_fail(err, LC_EIO, "path", "cannot write '%s': %s", path,
+        lc_status st = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path,
                                strerror(errno));
         close(fd);
         unlink(tmp);
@@ -105,9 +105,9 @@ lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding e
     }
     lc_status st = write_png(fp, img, enc, path, err);
     if (st == LC_OK && (fflush(fp) != 0 || fsync(fileno(fp)) != 0))
-        st = lc_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
+        st = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
     if (fclose(fp) != 0 && st == LC_OK)
-        st = lc_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
+        st = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
     /* mkstemp makes the file 0600; a PNG is meant to be shared like any file. */
     if (st == LC_OK) {
         mode_t um = umask(0);
@@ -115,11 +115,11 @@ lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding e
         chmod(tmp, 0666 & ~um);
     }
     if (st == LC_OK && rename(tmp, path) != 0)
-        st = lc_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
+        st = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
     if (st != LC_OK)
         unlink(tmp);
     else
-        lc_ok(err);
+        error_ok(err);
     free(tmp);
     return st;
 }
@@ -137,7 +137,7 @@ lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
 {
     FILE *fp = fopen(path, "rb");
     if (!fp) {
-        lc_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
+        error_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
         return NULL;
     }
     png_failure fail = {""};
@@ -151,7 +151,7 @@ lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
         fclose(fp);
         free(row);
         lc_image_free(img);
-        lc_fail(err, LC_EIO, "path", "cannot read '%s': %s", path,
+        error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path,
                 fail.msg[0] ? fail.msg : "out of memory");
         return NULL;
     }
@@ -194,6 +194,6 @@ lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
     png_destroy_read_struct(&png, &info, NULL);
     fclose(fp);
     free(row);
-    lc_ok(err);
+    error_ok(err);
     return img;
 }

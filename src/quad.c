@@ -65,15 +65,15 @@ void quad_bounds(const quad_geom *g, float lo[3], float hi[3])
 
 /* Bounds are inclusive (0 <= alpha, beta <= 1), so a ray through an edge or
 ** corner hits; two quads sharing an edge leave no crack between them. */
-int quad_hit(const quad_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+int quad_hit(const quad_geom *g, const ray *r, double tmin, double tmax, hit *h)
 {
     return quad_hit_inv(g, r, NULL, tmin, tmax, h);
 }
 
 /* The distance is the plane's (geom.h), so a quad lying on an infinite
 ** plane meets a ray at exactly the same t: ties go by id, not by rounding. */
-int quad_hit_inv(const quad_geom *g, const lc_ray *r, const double *inv, double tmin,
-                 double tmax, lc_hit *h)
+int quad_hit_inv(const quad_geom *g, const ray *r, const double *inv, double tmin,
+                 double tmax, hit *h)
 {
     double t = plane_distance(g->un, g->q, g->axis, r, inv, tmin, tmax);
     if (!(t > 0))

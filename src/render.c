@@ -83,13 +83,13 @@ static radiance camera_sample(const job *j, tracer *t, int x, int y, uint32_t s,
     double u[2] = {0.5, 0.5};
     if (n > 1)
         sample_2d(&t->ps, sample_dim(DIM_PIXEL, 0, 0), s, n, u);
-    lc_ray ray = camera_ray(&j->cam, x + u[0], y + u[1]);
+    ray r = camera_ray(&j->cam, x + u[0], y + u[1]);
     if (t->needs & LC_NEED_LENS) {
         sample_2d(&t->ps, sample_dim(DIM_LENS, 0, 0), s, n, u);
-        camera_lens(&j->cam, &ray, u);
+        camera_lens(&j->cam, &r, u);
     }
     t->rays[LC_RAY_CAMERA]++;
-    return trace_ray(t, &ray, s, n);
+    return shade_ray(t, &r, s, n);
 }
 
 /* Writes the mean of n samples; under RADIANCE_CAP, so the float is
@@ -115,7 +115,7 @@ static void render_tile(job *j, tracer *t, int tile)
             if (ad && !ad->active[pixel])
                 continue;
             if (j->random)
-                t->ps = pixel_sampler_init(o->sampler, o->seed, o->frame, pixel);
+                t->ps = sample_pixel(o->sampler, o->seed, o->frame, pixel);
             if (!ad) {
                 double sum[3] = {0, 0, 0};
                 for (uint32_t s = 0; s < n; s++) {
@@ -150,15 +150,15 @@ lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y
     if (lc_render_options_check(o, err))
         return LC_EARG;
     if (x < 0 || x >= o->width || y < 0 || y >= o->height)
-        return lc_fail(err, LC_EARG, x < 0 || x >= o->width ? "x" : "y",
+        return error_fail(err, LC_EARG, x < 0 || x >= o->width ? "x" : "y",
                        "pixel (%d, %d) is outside the %dx%d image", x + 1, y + 1,
                        o->width, o->height);
     if (sample < 0 || sample >= o->samples)
-        return lc_fail(err, LC_EARG, "sample", "must be in [1, %d], got %d", o->samples,
+        return error_fail(err, LC_EARG, "sample", "must be in [1, %d], got %d", o->samples,
                        sample + 1);
     if (!s->has_camera)
-        return lc_fail(err, LC_EARG, "camera", "the scene has no camera");
-    if (scene_compile(s, o, err))
+        return error_fail(err, LC_EARG, "camera", "the scene has no camera");
+    if (compile_scene(s, o, err))
         return err ? err->code : LC_ENOMEM;
     job j;
     memset(&j, 0, sizeof j);
@@ -169,16 +169,16 @@ lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y
     tracer t;
     tracer_init(&t, s, o);
     t.log = &log;
-    t.ps = pixel_sampler_init(o->sampler, o->seed, o->frame, (uint64_t)y * o->width + x);
+    t.ps = sample_pixel(o->sampler, o->seed, o->frame, (uint64_t)y * o->width + x);
     camera_sample(&j, &t, x, y, (uint32_t)sample, (uint32_t)o->samples);
     explain_free(&log);
     if (log.failed) {
         free(log.r);
-        return lc_fail(err, LC_ENOMEM, NULL, "out of memory recording the rays");
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory recording the rays");
     }
     *records = log.r;
     *n = log.n;
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }
 
@@ -294,12 +294,12 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     if (lc_render_options_check(o, err))
         return NULL;
     if (!s->has_camera) {
-        lc_fail(err, LC_EARG, "camera", "the scene has no camera");
+        error_fail(err, LC_EARG, "camera", "the scene has no camera");
         return NULL;
     }
     sig_atomic_t interrupts_seen = interrupts;
     double t0 = clock_seconds();
-    if (scene_compile(s, o, err))
+    if (compile_scene(s, o, err))
         return NULL;
     double t1 = clock_seconds();
     lc_image *img = lc_image_new(o->width, o->height, err);
@@ -327,7 +327,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     adaptive ad;
     worker *ws = calloc((size_t)nt, sizeof *ws);
     if (!ws)
-        lc_fail(err, LC_ENOMEM, NULL, "out of memory starting %d threads", nt);
+        error_fail(err, LC_ENOMEM, NULL, "out of memory starting %d threads", nt);
     if (!ws || (o->noise > 0 && adaptive_init(&ad, o, err))) {
         free(ws);
         lc_image_free(img);
@@ -387,9 +387,9 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         *st = sum;
     if (cancelled) {
         lc_image_free(img);
-        lc_fail(err, LC_ECANCEL, NULL, "render cancelled");
+        error_fail(err, LC_ECANCEL, NULL, "render cancelled");
         return NULL;
     }
-    lc_ok(err);
+    error_ok(err);
     return img;
 }

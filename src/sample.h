@@ -27,7 +27,7 @@ static inline uint32_t sample_dim(unsigned purpose, unsigned depth, unsigned whi
     return (uint32_t)purpose << 28 ^ (uint32_t)depth << 16 ^ (uint32_t)which;
 }
 
-static inline pixel_sampler pixel_sampler_init(lc_sampler kind, uint64_t seed,
+static inline pixel_sampler sample_pixel(lc_sampler kind, uint64_t seed,
                                                uint32_t frame, uint64_t pixel)
 {
     pixel_sampler ps;
@@ -175,7 +175,7 @@ static inline void sample_2d(const pixel_sampler *ps, uint32_t dim, uint32_t ind
 }
 
 /* The count of a nested set, kept within what sample_2d takes. */
-static inline uint32_t nested_count(uint32_t outer, uint32_t inner)
+static inline uint32_t sample_nested_count(uint32_t outer, uint32_t inner)
 {
     uint64_t n = (uint64_t)outer * inner;
     return n > (1u << 31) ? 1u << 31 : (uint32_t)n;

@@ -25,11 +25,11 @@ lc_scene *lc_scene_new(lc_error *err)
 {
     lc_scene *s = calloc(1, sizeof *s);
     if (!s) {
-        lc_fail(err, LC_ENOMEM, NULL, "out of memory creating a scene");
+        error_fail(err, LC_ENOMEM, NULL, "out of memory creating a scene");
         return NULL;
     }
     s->settings = lc_settings_default();
-    lc_ok(err);
+    error_ok(err);
     return s;
 }
 
@@ -37,8 +37,8 @@ void lc_scene_free(lc_scene *s)
 {
     if (!s)
         return;
-    compiled_free(&s->c);
-    instances_free(s);
+    compile_free(&s->c);
+    instance_free_all(s);
     for (size_t i = 0; i < s->nmeshes; i++) {
         lc_mesh_free(s->meshes[i].mesh);
         free(s->meshes[i].xf);
@@ -64,14 +64,14 @@ lc_status lc_scene_configure(lc_scene *s, const lc_settings *st, lc_error *err)
         float ch[3] = {cs[i]->r, cs[i]->g, cs[i]->b};
         for (int k = 0; k < 3; k++)
             if (!isfinite(ch[k]) || ch[k] < 0)
-                return lc_fail(err, LC_EARG, names[i],
+                return error_fail(err, LC_EARG, names[i],
                                "component %d must be finite and >= 0, got %g", k + 1, ch[k]);
     }
     if (st->max_depth < 0 || st->max_depth > LC_MAX_DEPTH)
-        return lc_fail(err, LC_EARG, "max_depth", "must be in [0, %d], got %d", LC_MAX_DEPTH,
+        return error_fail(err, LC_EARG, "max_depth", "must be in [0, %d], got %d", LC_MAX_DEPTH,
                        st->max_depth);
     s->settings = *st;
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }
 
@@ -98,7 +98,7 @@ int lc_scene_add_material(lc_scene *s, const lc_material *m, lc_error *err)
     if (lc_material_check(m, err))
         return -1;
     if (s->nmaterials >= PRIM_MAX || !GROW(s, materials)) {
-        lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a material");
+        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a material");
         return -1;
     }
     s->materials[s->nmaterials] = *m;
@@ -109,7 +109,7 @@ int lc_scene_add_material(lc_scene *s, const lc_material *m, lc_error *err)
 static int check_material(const lc_scene *s, int material, lc_error *err)
 {
     if (material < 0 || (size_t)material >= s->nmaterials) {
-        lc_fail(err, LC_EARG, "material", "no material %d in this scene", material);
+        error_fail(err, LC_EARG, "material", "no material %d in this scene", material);
         return 0;
     }
     return 1;
@@ -146,7 +146,7 @@ int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *
     const lc_material *m = &s->materials[material];
     int emits = shape_can_emit(sh->kind) && !c_is_black(m->emission);
     if (l->n >= PRIM_MAX || !shape_list_grow(l) || (emits && !GROW(s, emitters))) {
-        lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a shape");
+        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a shape");
         return -1;
     }
     size_t i = l->n++;
@@ -175,13 +175,13 @@ static int add_mesh(lc_scene *s, lc_mesh *m, instance_xf *xf, int material, lc_e
         return -1;
     }
     if (m->nn != 0 && m->nn != m->nv) {
-        lc_fail(err, LC_EARG, "normals", "mesh has %zu normals for %zu vertices", m->nn,
+        error_fail(err, LC_EARG, "normals", "mesh has %zu normals for %zu vertices", m->nn,
                 m->nv);
         free(xf);
         return -1;
     }
     if (s->nmeshes >= PRIM_MAX || !GROW(s, meshes)) {
-        lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
+        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
         free(xf);
         return -1;
     }
@@ -210,7 +210,7 @@ int lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t, int 
         return add_mesh(s, m, NULL, material, err);
     instance_xf *xf = malloc(sizeof *xf);
     if (!xf) {
-        lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
+        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
         return -1;
     }
     if (instance_xf_make(t, xf, err)) {
@@ -226,13 +226,13 @@ int lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err)
         return -1;
     size_t cap = s->caplights;
     if (s->nlights >= PRIM_MAX || !GROW(s, lights)) {
-        lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a light");
+        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a light");
         return -1;
     }
     if (s->caplights != cap || !s->light_ids) {     /* ids grow beside the lights */
         int *ids = realloc(s->light_ids, s->caplights * sizeof *ids);
         if (!ids) {
-            lc_fail(err, LC_ENOMEM, NULL, "out of memory adding a light");
+            error_fail(err, LC_ENOMEM, NULL, "out of memory adding a light");
             return -1;
         }
         s->light_ids = ids;
@@ -257,10 +257,10 @@ static lc_vec3 move(lc_vec3 p, double s, lc_vec3 t)
 lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_error *err)
 {
     if (!(scale > 0) || !isfinite(scale))
-        return lc_fail(err, LC_EARG, "scale", "must be finite and > 0, got %g", scale),
+        return error_fail(err, LC_EARG, "scale", "must be finite and > 0, got %g", scale),
                NULL;
     if (!isfinite(t.x) || !isfinite(t.y) || !isfinite(t.z))
-        return lc_fail(err, LC_EARG, "offset", "must be finite"), NULL;
+        return error_fail(err, LC_EARG, "offset", "must be finite"), NULL;
     lc_scene *c = lc_scene_new(err);
     if (!c)
         return NULL;

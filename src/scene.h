@@ -92,40 +92,38 @@ enum {
 };
 
 /* o: the render's switches, or NULL for the defaults. */
-lc_status scene_compile(lc_scene *s, const lc_render_options *o, lc_error *err);
-void      compiled_free(compiled *c);
-int       render_depth(const lc_scene *s, const lc_render_options *o);
+lc_status compile_scene(lc_scene *s, const lc_render_options *o, lc_error *err);
+void      compile_free(compiled *c);
+int       compile_depth(const lc_scene *s, const lc_render_options *o);
 lc_mesh  *mesh_retain(lc_mesh *m);
 
 /* instance.c: builds (or reuses) the BVH of every instanced mesh and lists
 ** their faces after the flat triangles in c->tris (room for
-** instances_faces(s) more entries must be there). */
-size_t    instances_faces(const lc_scene *s);
-lc_status instances_compile(lc_scene *s, lc_error *err);
-void      instances_free(lc_scene *s);            /* the cache, at scene free */
+** instance_faces(s) more entries must be there). */
+size_t    instance_faces(const lc_scene *s);
+lc_status instance_compile(lc_scene *s, lc_error *err);
+void      instance_free_all(lc_scene *s);            /* the cache, at scene free */
 /* World bounds of mesh_prim i, an instance, rounded outward to float. */
 void      instance_bounds(const lc_scene *s, size_t i, float lo[3], float hi[3]);
 lc_status instance_xf_make(const lc_transform *t, instance_xf *x, lc_error *err);
 
 /* instance.c: the nearest hit on the instance mesh_prim i in (0, tmax), in
 ** world space (its distance, 0 for none); any hit. Both count their tests. */
-double instance_hit(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
-                    lc_hit *h, bvh_counts *counts);
-int    instance_occluded(const lc_scene *s, uint32_t i, const lc_ray *r, double tmax,
+double instance_hit(const lc_scene *s, uint32_t i, const ray *r, double tmax,
+                    hit *h, bvh_counts *counts);
+int    instance_occluded(const lc_scene *s, uint32_t i, const ray *r, double tmax,
                          bvh_counts *counts);
 
 /* Nearest hit with 0 < t < tmax; 1 if any. counts may be NULL. */
-int scene_closest_n(const lc_scene *s, const lc_ray *r, double tmax, lc_hit *h,
+int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
                     bvh_counts *counts);
 /* 1 if anything lies on the ray with 0 < t < tmax. counts may be NULL. */
-int scene_occluded_n(const lc_scene *s, const lc_ray *r, double tmax, bvh_counts *counts);
+int intersect_occluded(const lc_scene *s, const ray *r, double tmax, bvh_counts *counts);
 /* The same, but primitive `skip` (a PRIM_ID, never a plane) is not there:
 ** a shadow ray toward a point sampled on an emitter cannot be blocked by
 ** that emitter, whatever the rounding of its own surface. */
-int scene_occluded_skip(const lc_scene *s, const lc_ray *r, double tmax, uint32_t skip,
+int intersect_occluded_skip(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
                         bvh_counts *counts);
-#define SCENE_SKIP_NONE 0xffffffffu     /* kind 15: no primitive has this id */
-#define scene_closest(s, r, tmax, h) scene_closest_n((s), (r), (tmax), (h), NULL)
-#define scene_occluded(s, r, tmax)   scene_occluded_n((s), (r), (tmax), NULL)
+#define INTERSECT_SKIP_NONE 0xffffffffu     /* kind 15: no primitive has this id */
 
 #endif

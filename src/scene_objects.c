@@ -105,14 +105,14 @@ lc_status lc_scene_object(const lc_scene *s, int id, lc_object *out, lc_error *e
     for (int k = 0; k < LC_SHAPE_KINDS; k++)
         if ((i = find_id(s->shapes[k].id, s->shapes[k].n, id)) >= 0) {
             shape_object(out, s, (lc_shape_kind)k, (size_t)i);
-            lc_ok(err);
+            error_ok(err);
             return LC_OK;
         }
     if ((i = find_mesh(s, id)) >= 0)
-        return mesh_object(out, &s->meshes[i]), lc_ok(err), LC_OK;
+        return mesh_object(out, &s->meshes[i]), error_ok(err), LC_OK;
     if ((i = find_id(s->light_ids, s->nlights, id)) >= 0)
-        return light_object(out, s, (size_t)i), lc_ok(err), LC_OK;
-    return lc_fail(err, LC_EARG, "id", "no object %d in this scene (%s)", id,
+        return light_object(out, s, (size_t)i), error_ok(err), LC_OK;
+    return error_fail(err, LC_EARG, "id", "no object %d in this scene (%s)", id,
                    id >= 0 && id < s->next_id ? "it was removed" : "never added");
 }
 
@@ -179,6 +179,6 @@ lc_status lc_scene_remove(lc_scene *s, int id, lc_error *err)
         break;
     }
     s->c.valid = 0;
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }

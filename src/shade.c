@@ -17,7 +17,7 @@ static double max3(radiance c) { return max2(c.r, max2(c.g, c.b)); }
 
 /* A ray that left primitive `from` away from its inside (or off a flat one)
 ** cannot meet it again: if it does, the spawn offset failed. */
-static int cannot_return(const lc_hit *h, lc_vec3 w)
+static int cannot_return(const hit *h, lc_vec3 w)
 {
     return prim_flat(PRIM_KIND(h->shape)) || v3_dot(w, h->n) > 0;
 }
@@ -48,17 +48,17 @@ static double cone_sample(tracer *t, const lc_material *m, lc_vec3 a, lc_vec3 n,
     return c;
 }
 
-static radiance trace_path(tracer *t, const lc_ray *r0, path pa, int split, radiance w,
+static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radiance w,
                            int rec);
 
 /* The seed's diffusion cone, done right: M rays over the cone, stratified
 ** over all the pixel's cone rays, each weighted by its cosine with the
 ** normal, weights normalised to sum to 1 (as in the seed). Returns what the
 ** M sub-paths bring back, weighted by w. */
-static radiance glossy_split(tracer *t, const lc_hit *h, const lc_material *m, lc_vec3 n,
+static radiance glossy_split(tracer *t, const hit *h, const lc_material *m, lc_vec3 n,
                              lc_vec3 axis, const path *pa, radiance w, int rec)
 {
-    uint32_t M = cone_count(t, m), count = nested_count(pa->count, M);
+    uint32_t M = cone_count(t, m), count = sample_nested_count(pa->count, M);
     radiance acc = {0, 0, 0};
     double total = 0;
     lc_vec3 d;
@@ -72,7 +72,7 @@ static radiance glossy_split(tracer *t, const lc_hit *h, const lc_material *m, l
         double c = cone_sample(t, m, axis, n, pa->depth, idx, count, &d);
         if (!(c > 0))
             continue;
-        lc_ray r = {spawn_origin(h, d), d};
+        ray r = {spawn_origin(h, d), d};
         t->rays[LC_RAY_GLOSSY]++;
         int sub = rec >= 0 ? explain_ray(t->log, rec, LC_RAY_GLOSSY, &r) : -1;
         path next = {idx, count, pa->depth + 1, h->shape, h->instance, cannot_return(h, d)};
@@ -81,7 +81,7 @@ static radiance glossy_split(tracer *t, const lc_hit *h, const lc_material *m, l
     return acc;
 }
 
-radiance trace_ray(tracer *t, const lc_ray *r0, uint32_t index, uint32_t count)
+radiance shade_ray(tracer *t, const ray *r0, uint32_t index, uint32_t count)
 {
     path pa = {index, count, 0, 0, 0, 0};
     radiance one = {1, 1, 1};
@@ -97,18 +97,18 @@ radiance trace_ray(tracer *t, const lc_ray *r0, uint32_t index, uint32_t count)
 ** seed) the weight includes the colour: colour * (... + kr * Cr) expands to
 ** that. w: the path's weight in the pixel; rec: its first ray's explain
 ** record (-1 while rendering). */
-static radiance trace_path(tracer *t, const lc_ray *r0, path pa, int split, radiance w,
+static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radiance w,
                            int rec)
 {
     const lc_scene *s = t->scene;
-    lc_ray r = *r0;
+    ray r = *r0;
     radiance acc = {0, 0, 0};
     uint32_t from = pa.from, from_instance = pa.from_instance;
     int watch = pa.watch;      /* the last spawn cannot return to `from` */
     int first = rec;
     for (;;) {
-        lc_hit h;
-        if (!scene_closest_n(s, &r, HUGE_VAL, &h, &t->counts)) {
+        hit h;
+        if (!intersect_closest(s, &r, HUGE_VAL, &h, &t->counts)) {
             if (rec >= 0)
                 explain_hit(t->log, s, rec, NULL, r.d, w, acc);
             acc = r_add(acc, r_mul(w, rad(s->settings.background)));

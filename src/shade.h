@@ -26,6 +26,6 @@ typedef struct {
 } tracer;
 
 /* The radiance camera sample `index` of `count` of the pixel brings back. */
-radiance trace_ray(tracer *t, const lc_ray *r, uint32_t index, uint32_t count);
+radiance shade_ray(tracer *t, const ray *r, uint32_t index, uint32_t count);
 
 #endif

@@ -40,14 +40,14 @@ static void add_light(const tracer *t, const lc_material *m, unsigned plan, lc_v
 ** at *aim, and is blocked only when something nearer than the emitter
 ** `skip` itself is hit; otherwise any hit on a primitive but `skip` blocks
 ** it. Returns 1 when the light is visible; *rec is its explain record. */
-ALWAYS_INLINE int shadow_ray(tracer *t, const lc_hit *h, lc_vec3 l, double reach,
+ALWAYS_INLINE int shadow_ray(tracer *t, const hit *h, lc_vec3 l, double reach,
                            const lc_vec3 *aim, lc_ray_kind kind, int light,
                            uint32_t skip, int *rec)
 {
     *rec = -1;
     if (!t->shadows)
         return 1;
-    lc_ray sr = {spawn_origin(h, l), l};
+    ray sr = {spawn_origin(h, l), l};
     if (aim) {
         lc_vec3 so = v3_sub(*aim, sr.o);
         reach = v3_len(so);
@@ -59,18 +59,18 @@ ALWAYS_INLINE int shadow_ray(tracer *t, const lc_hit *h, lc_vec3 l, double reach
     double tmax = reach * (1 - SHADOW_SHORTEN);
     int blocked;
     if (aim) {
-        lc_hit blk;
-        blocked = scene_closest_n(t->scene, &sr, tmax, &blk, &t->counts) &&
+        hit blk;
+        blocked = intersect_closest(t->scene, &sr, tmax, &blk, &t->counts) &&
                   blk.shape != skip;
     } else {
-        blocked = scene_occluded_skip(t->scene, &sr, tmax, skip, &t->counts);
+        blocked = intersect_occluded_skip(t->scene, &sr, tmax, skip, &t->counts);
     }
     if (!blocked && t->log)
         explain_visible(t->log, *rec);
     return !blocked;
 }
 
-static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, unsigned plan,
+static void point_lights(tracer *t, const hit *h, const lc_material *m, unsigned plan,
                          lc_vec3 n, lc_vec3 v, light_sum *sum)
 {
     const lc_scene *s = t->scene;
@@ -89,7 +89,7 @@ static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, unsig
         /* From the offset origin along l: the offset is a few ulps of |p|,
         ** far inside SHADOW_SHORTEN, so the ray still stops short of L. */
         int rec;
-        if (!shadow_ray(t, h, l, d, NULL, LC_RAY_SHADOW, (int)i, SCENE_SKIP_NONE, &rec))
+        if (!shadow_ray(t, h, l, d, NULL, LC_RAY_SHADOW, (int)i, INTERSECT_SKIP_NONE, &rec))
             continue;
         double k = L->intensity;
         if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)
@@ -103,7 +103,7 @@ static void point_lights(tracer *t, const lc_hit *h, const lc_material *m, unsig
 ** meets the shape itself (or nothing) first. The light colour is E/(pi cos),
 ** E the irradiance of the whole shape seen from the point: exact for a
 ** sphere (pi L (r/d)^2 cos), projected area over d^2 for quads and boxes. */
-static void emitters(tracer *t, const lc_hit *h, const lc_material *m, unsigned plan,
+static void emitters(tracer *t, const hit *h, const lc_material *m, unsigned plan,
                      lc_vec3 n, lc_vec3 v, light_sum *sum)
 {
     const lc_scene *s = t->scene;
@@ -136,12 +136,12 @@ static void emitters(tracer *t, const lc_hit *h, const lc_material *m, unsigned 
 ** cone they subtend), quads and boxes by area. Each sample adds
 ** L * cos / (pi pdf S), so that the sum is E / pi, the same convention as
 ** the centre-ray model (exact for an unshadowed sphere). */
-static void area_lights(tracer *t, const lc_hit *h, const lc_material *m, unsigned plan,
+static void area_lights(tracer *t, const hit *h, const lc_material *m, unsigned plan,
                         lc_vec3 n, lc_vec3 v, uint32_t index, uint32_t count, int depth,
                         light_sum *sum)
 {
     const lc_scene *s = t->scene;
-    uint32_t S = (uint32_t)t->light_samples, all = nested_count(count, S);
+    uint32_t S = (uint32_t)t->light_samples, all = sample_nested_count(count, S);
     for (size_t i = 0; i < s->nemitters; i++) {
         const emitter *e = &s->emitters[i];
         if (e->prim == h->shape)

@@ -1,7 +1,7 @@
 /* shade_minimal.c: diffuse-only shading, the reference for S7's cost parity. */
 /*
 ** Built only by `make MINIMAL=1` (build/minimal), in place of shade.c: the
-** same trace_ray with everything but the diffuse path compiled out, so the
+** same shade_ray with everything but the diffuse path compiled out, so the
 ** bench (tools/bench/parity.lua) prices what the full shading costs on a
 ** scene that needs none of it (NUMERICS.md S7: <= 1.05x). What is left: the
 ** closest hit, the background on a miss, and per point light n.l > 0, one
@@ -20,13 +20,13 @@
 #endif
 
 
-radiance trace_ray(tracer *t, const lc_ray *r, uint32_t index, uint32_t count)
+radiance shade_ray(tracer *t, const ray *r, uint32_t index, uint32_t count)
 {
     const lc_scene *s = t->scene;
-    lc_hit h;
+    hit h;
     (void)index;
     (void)count;
-    if (!scene_closest_n(s, r, HUGE_VAL, &h, &t->counts)) {
+    if (!intersect_closest(s, r, HUGE_VAL, &h, &t->counts)) {
         lc_color bg = s->settings.background;
         radiance c = {bg.r, bg.g, bg.b};
         return c;
@@ -42,9 +42,9 @@ radiance trace_ray(tracer *t, const lc_ray *r, uint32_t index, uint32_t count)
         double cosl = v3_dot(n, l);
         if (!(cosl > 0))                   /* also a light on the point: NaN */
             continue;
-        lc_ray sr = {spawn_origin(&h, l), l};
+        ray sr = {spawn_origin(&h, l), l};
         t->rays[LC_RAY_SHADOW]++;
-        if (scene_occluded_n(s, &sr, d * (1 - SHADOW_SHORTEN), &t->counts))
+        if (intersect_occluded(s, &sr, d * (1 - SHADOW_SHORTEN), &t->counts))
             continue;
         double k = L->intensity;
         if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)

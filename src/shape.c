@@ -61,10 +61,10 @@ lc_status lc_shape_check(const lc_shape *s, lc_error *err)
     case LC_BOX: st = box_check(s, err); break;
     case LC_PLANE: st = plane_check(s, err); break;
     default:
-        return lc_fail(err, LC_EARG, "kind", "unknown shape kind %d", (int)s->kind);
+        return error_fail(err, LC_EARG, "kind", "unknown shape kind %d", (int)s->kind);
     }
     if (st == LC_OK)
-        lc_ok(err);
+        error_ok(err);
     return st;
 }
 
@@ -84,7 +84,7 @@ lc_status lc_shape_transform(const lc_shape *s, const lc_transform *t, lc_shape 
     if (st || lc_shape_check(&r, err))
         return LC_EARG;
     *out = r;
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }
 

@@ -10,7 +10,7 @@
 
 /* A primitive's id: its kind in the top 4 bits, its index in that kind's
 ** list. Ids order ties between equally near hits. Kind 15 is no kind
-** (SCENE_SKIP_NONE). */
+** (INTERSECT_SKIP_NONE). */
 enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
        PRIM_INSTANCE,       /* a moved mesh: only in BVH refs, never in a hit */
        PRIM_KINDS };
@@ -69,9 +69,9 @@ void      sphere_bounds(const sphere_geom *g, float lo[3], float hi[3]);
 /* Each fills *h and returns 1 for the nearest hit with tmin < t < tmax,
 ** else returns 0 and leaves *h untouched; the *_t forms return the distance
 ** only (0 for a miss): enough to find the nearest hit, finished later. */
-double    sphere_t(const sphere_geom *g, const lc_ray *r, double tmin, double tmax);
-int       sphere_hit(const sphere_geom *g, const lc_ray *r, double tmin, double tmax,
-                     lc_hit *h);
+double    sphere_t(const sphere_geom *g, const ray *r, double tmin, double tmax);
+int       sphere_hit(const sphere_geom *g, const ray *r, double tmin, double tmax,
+                     hit *h);
 double    sphere_light_centre(const sphere_geom *g, lc_vec3 l, double d);
 int       sphere_light_begin(const sphere_geom *g, lc_vec3 p, lc_vec3 n, sphere_light *sl);
 int       sphere_light_sample(const sphere_geom *g, const sphere_light *sl, lc_vec3 p,
@@ -97,10 +97,10 @@ lc_status quad_transform(const lc_shape *s, const lc_transform *t, lc_shape *out
                          lc_error *err);
 void      quad_scale(lc_shape *s, double k, lc_vec3 offset);
 void      quad_bounds(const quad_geom *g, float lo[3], float hi[3]);
-int       quad_hit(const quad_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h);
+int       quad_hit(const quad_geom *g, const ray *r, double tmin, double tmax, hit *h);
 /* inv: the ray's reciprocal direction (1/d per axis), or NULL to compute it. */
-int       quad_hit_inv(const quad_geom *g, const lc_ray *r, const double *inv, double tmin,
-                       double tmax, lc_hit *h);
+int       quad_hit_inv(const quad_geom *g, const ray *r, const double *inv, double tmin,
+                       double tmax, hit *h);
 double    quad_light_centre(const quad_geom *g, lc_vec3 l, double d);
 int       quad_light_begin(const quad_geom *g, lc_vec3 p, quad_light *ql);
 int       quad_light_sample(const quad_geom *g, const quad_light *ql, lc_vec3 p,
@@ -131,10 +131,10 @@ lc_status box_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
                         lc_error *err);
 void      box_scale(lc_shape *s, double k, lc_vec3 offset);
 void      box_bounds(const box_geom *g, float lo[3], float hi[3]);
-int       box_hit(const box_geom *g, const lc_ray *r, double tmin, double tmax, lc_hit *h);
-int       box_hit_inv(const box_geom *g, const lc_ray *r, const double *inv, double tmin,
-                      double tmax, lc_hit *h);
-double    box_t(const box_geom *g, const lc_ray *r, const double *inv, double tmin,
+int       box_hit(const box_geom *g, const ray *r, double tmin, double tmax, hit *h);
+int       box_hit_inv(const box_geom *g, const ray *r, const double *inv, double tmin,
+                      double tmax, hit *h);
+double    box_t(const box_geom *g, const ray *r, const double *inv, double tmin,
                 double tmax);
 double    box_light_centre(const box_geom *g, lc_vec3 l, double d);
 int       box_light_begin(const box_geom *g, lc_vec3 p, box_light *bl);
@@ -156,15 +156,45 @@ void      plane_describe(const plane_geom *g, lc_shape *s);
 lc_status plane_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
                           lc_error *err);
 void      plane_scale(lc_shape *s, double k, lc_vec3 offset);
-int       plane_hit(const plane_geom *g, const lc_ray *r, double tmin, double tmax,
-                    lc_hit *h);
-int       plane_hit_inv(const plane_geom *g, const lc_ray *r, const double *inv,
-                        double tmin, double tmax, lc_hit *h);
+int       plane_hit(const plane_geom *g, const ray *r, double tmin, double tmax,
+                    hit *h);
+int       plane_hit_inv(const plane_geom *g, const ray *r, const double *inv,
+                        double tmin, double tmax, hit *h);
+/* Distance along r to the plane through p with unit normal n (axis >= 0:
+** n is +-1 on that axis), or 0 for no hit in (tmin, tmax). inv: the ray's
+** reciprocals or NULL. Inline: every ray meets every infinite plane. */
+static inline double plane_distance(lc_vec3 n, lc_vec3 p, int axis, const ray *r,
+                                    const double *inv, double tmin, double tmax)
+{
+    double t;
+    if (axis >= 0) {
+        /* Axis planes (walls, floors): one subtraction, exact when the
+        ** origin is near the plane, so its side is never in doubt; then
+        ** the ray's own reciprocal. A parallel ray gives inf or NaN. */
+        double i = inv ? inv[axis] : 1.0 / v3_comp(r->d, axis);
+        t = (v3_comp(p, axis) - v3_comp(r->o, axis)) * i;
+    } else {
+        double denom = v3_dot(n, r->d);
+        if (denom == 0)    /* exactly parallel; no epsilon band near grazing */
+            return 0;
+        /* n.(p - o), not k - n.o: the difference comes first, so t keeps
+        ** a few ulps of |p - o|, not of |o|. An origin on the plane within
+        ** that rounding cannot tell its side: no hit (a camera on it). */
+        lc_vec3 po = v3_sub(p, r->o);
+        double num = v3_dot(n, po);
+        double band = vec_gamma(4) * (fabs(n.x * po.x) + fabs(n.y * po.y) + fabs(n.z * po.z));
+        if (!(fabs(num) > band))
+            return 0;
+        t = num / denom;
+    }
+    return t > tmin && t < tmax ? t : 0;   /* NaN and inf fail here */
+}
+
 /* Shared by plane and quad: puts p back onto the plane n.x = k. */
 lc_vec3   plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
                      lc_vec3 *perr);
 
-static inline double plane_t(const plane_geom *g, const lc_ray *r, const double *inv,
+static inline double plane_t(const plane_geom *g, const ray *r, const double *inv,
                              double tmin, double tmax)
 {
     return plane_distance(g->n, g->p, g->axis, r, inv, tmin, tmax);
@@ -176,16 +206,16 @@ static inline double plane_t(const plane_geom *g, const lc_ray *r, const double 
 typedef struct {
     int    kx, ky, kz;
     double sx, sy, sz;
-} tri_shear;
+} triangle_shear;
 
-void tri_shear_init(lc_vec3 d, tri_shear *s);
+void triangle_shear_init(lc_vec3 d, triangle_shear *s);
 /* v0, v1, v2 point at 3 doubles each; fills bary with the weights of p. */
-int  tri_hit(const double *v0, const double *v1, const double *v2, const lc_ray *r,
-             const tri_shear *s, double tmin, double tmax, lc_hit *h, double bary[3]);
+int  triangle_hit(const double *v0, const double *v1, const double *v2, const ray *r,
+             const triangle_shear *s, double tmin, double tmax, hit *h, double bary[3]);
 /* A face that can never be hit: zero area (or an area beyond double). */
-int  tri_degenerate(const double *a, const double *b, const double *c);
+int  triangle_degenerate(const double *a, const double *b, const double *c);
 /* Bounds of a face: its vertices are exact doubles, rounded outward. */
-void tri_bounds(const double *a, const double *b, const double *c, float lo[3],
+void triangle_bounds(const double *a, const double *b, const double *c, float lo[3],
                 float hi[3]);
 
 /* ---- The dispatch (shape.c) --------------------------------------------------------- */

@@ -10,12 +10,12 @@
 ** over thin geometry at small scales and falls short at large ones. */
 #define NAIVE_EPSILON 1e-4
 
-lc_vec3 spawn_origin(const lc_hit *h, lc_vec3 w)
+lc_vec3 spawn_origin(const hit *h, lc_vec3 w)
 {
     return v3_madd(h->p, h->n, v3_dot(w, h->n) < 0 ? -NAIVE_EPSILON : NAIVE_EPSILON);
 }
 #else
-lc_vec3 spawn_origin(const lc_hit *h, lc_vec3 w)
+lc_vec3 spawn_origin(const hit *h, lc_vec3 w)
 {
     lc_vec3 n = h->n;
     double dist = fabs(n.x) * h->perr.x + fabs(n.y) * h->perr.y + fabs(n.z) * h->perr.z;

@@ -17,9 +17,9 @@ lc_status sphere_check(const lc_shape *s, lc_error *err)
     if (validate_vec(s->p, "center", err))
         return LC_EARG;
     if (!isfinite(s->radius))
-        return lc_fail(err, LC_EARG, "radius", "must be finite, got %g", s->radius);
+        return error_fail(err, LC_EARG, "radius", "must be finite, got %g", s->radius);
     if (!(s->radius > 0))
-        return lc_fail(err, LC_EARG, "radius", "must be > 0, got %g", s->radius);
+        return error_fail(err, LC_EARG, "radius", "must be > 0, got %g", s->radius);
     return LC_OK;
 }
 
@@ -53,7 +53,7 @@ lc_status sphere_transform(const lc_shape *s, const lc_transform *t, lc_shape *o
     double tol = UNIFORM_TOL * big;
     if (fabs(g[0][1]) > tol || fabs(g[0][2]) > tol || fabs(g[1][2]) > tol ||
         fabs(g[0][0] - g[1][1]) > tol || fabs(g[0][0] - g[2][2]) > tol)
-        return lc_fail(err, LC_EARG, "transform", "a sphere scales uniformly; this "
+        return error_fail(err, LC_EARG, "transform", "a sphere scales uniformly; this "
                        "transform stretches or shears it (axes scaled by %g, %g, %g): "
                        "use a mesh for an ellipsoid", sqrt(g[0][0]), sqrt(g[1][1]),
                        sqrt(g[2][2]));
@@ -86,7 +86,7 @@ void sphere_bounds(const sphere_geom *g, float lo[3], float hi[3])
 #ifdef LC_NAIVE
 /* The textbook quadratic, built only by `make NAIVE=1` so the benchmark can
 ** show what the robust version costs. It cancels for small or far spheres. */
-double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
+double sphere_t(const sphere_geom *s, const ray *r, double tmin, double tmax)
 {
     lc_vec3 f = v3_sub(r->o, s->c);
     double b = 2 * v3_dot(f, r->d), c = v3_dot(f, f) - s->r * s->r;
@@ -101,7 +101,7 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
     return 0;
 }
 #else
-double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
+double sphere_t(const sphere_geom *s, const ray *r, double tmin, double tmax)
 {
     if (s->r2 == 0)
         return 0;
@@ -121,7 +121,7 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
     ** beyond tmax when c > tmax q: most spheres a BVH visits behind the
     ** nearest hit so far, or past a shadow ray's light, are refused without
     ** a division. The margin keeps exact ties for the division below. */
-    if (c > 0 && q > 0 && c > tmax * q * (1 + lc_gamma(4)))
+    if (c > 0 && q > 0 && c > tmax * q * (1 + vec_gamma(4)))
         return 0;
     double t0 = c / q, t1 = q;
     if (t0 > t1) {
@@ -130,7 +130,7 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
     /* A root nearer than the rounding of o - c and of c itself could be the
     ** surface the ray starts on (a camera placed on the sphere, a ray
     ** spawned from it): refused, as pbrt-v4 refuses t below its bound. */
-    double near = lc_gamma(6) * (s->extent + fabs(r->o.x) + fabs(r->o.y) + fabs(r->o.z));
+    double near = vec_gamma(6) * (s->extent + fabs(r->o.x) + fabs(r->o.y) + fabs(r->o.z));
     if (tmin < near)
         tmin = near;
     if (t0 > tmin && t0 < tmax)
@@ -141,7 +141,7 @@ double sphere_t(const sphere_geom *s, const lc_ray *r, double tmin, double tmax)
 }
 #endif
 
-int sphere_hit(const sphere_geom *s, const lc_ray *r, double tmin, double tmax, lc_hit *h)
+int sphere_hit(const sphere_geom *s, const ray *r, double tmin, double tmax, hit *h)
 {
     double t = sphere_t(s, r, tmin, tmax);
     if (!(t > 0))
@@ -157,7 +157,7 @@ int sphere_hit(const sphere_geom *s, const lc_ray *r, double tmin, double tmax, 
     pl = v3_mul(n, s->r);
     h->t = t;
     h->p = v3_add(s->c, pl);
-    h->perr = v3_add(v3_mul(v3_abs(pl), lc_gamma(7)), v3_mul(v3_abs(h->p), lc_gamma(4)));
+    h->perr = v3_add(v3_mul(v3_abs(pl), vec_gamma(7)), v3_mul(v3_abs(h->p), vec_gamma(4)));
     h->n = n;
     return 1;
 }

@@ -43,13 +43,13 @@ lc_status lc_transform_rotate(lc_vec3 axis, double degrees, lc_transform *out,
                               lc_error *err)
 {
     if (!isfinite(degrees))
-        return lc_fail(err, LC_EARG, "degrees", "must be finite, got %g", degrees);
+        return error_fail(err, LC_EARG, "degrees", "must be finite, got %g", degrees);
     if (!isfinite(axis.x) || !isfinite(axis.y) || !isfinite(axis.z))
-        return lc_fail(err, LC_EARG, "axis", "must be finite, got (%g, %g, %g)", axis.x,
+        return error_fail(err, LC_EARG, "axis", "must be finite, got (%g, %g, %g)", axis.x,
                        axis.y, axis.z);
     double l = v3_len(axis);
     if (!(l > 0) || !isfinite(l))
-        return lc_fail(err, LC_EARG, "axis", "must have a direction, got (%g, %g, %g)",
+        return error_fail(err, LC_EARG, "axis", "must have a direction, got (%g, %g, %g)",
                        axis.x, axis.y, axis.z);
     lc_vec3 a = v3_mul(axis, 1.0 / l);
     /* Along a coordinate axis the unit vector is exact. */
@@ -65,7 +65,7 @@ lc_status lc_transform_rotate(lc_vec3 axis, double degrees, lc_transform *out,
         {k * a.x * a.y + s * a.z, c + k * a.y * a.y, k * a.y * a.z - s * a.x, 0},
         {k * a.x * a.z - s * a.y, k * a.y * a.z + s * a.x, c + k * a.z * a.z, 0}}};
     *out = t;
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }
 
@@ -123,7 +123,7 @@ static double cofactors(const lc_transform *t, double cof[3][3], double *bound)
                                       fabs(m[i1][j2] * m[i2][j1]));
         }
     }
-    *bound = lc_gamma(6) * b;
+    *bound = vec_gamma(6) * b;
     return m[0][0] * cof[0][0] + m[0][1] * cof[0][1] + m[0][2] * cof[0][2];
 }
 
@@ -132,7 +132,7 @@ lc_status lc_transform_check(const lc_transform *t, lc_error *err)
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 4; j++)
             if (!isfinite(t->m[i][j]))
-                return lc_fail(err, LC_EARG, "transform",
+                return error_fail(err, LC_EARG, "transform",
                                "transform entry (%d, %d) must be finite, got %g", i + 1, j + 1,
                                t->m[i][j]);
     double cof[3][3], bound;
@@ -140,9 +140,9 @@ lc_status lc_transform_check(const lc_transform *t, lc_error *err)
     /* Relative to its own rounding: a scale of 1e-100 is fine, a flattening
     ** (a zero scale, two parallel axes) or an underflowing det is not. */
     if (!(fabs(det) > bound))
-        return lc_fail(err, LC_EARG, "transform", "transform is singular (determinant %g): it "
+        return error_fail(err, LC_EARG, "transform", "transform is singular (determinant %g): it "
                        "flattens space and cannot be undone", det);
-    lc_ok(err);
+    error_ok(err);
     return LC_OK;
 }
 
@@ -162,7 +162,7 @@ lc_status lc_transform_inverse(const lc_transform *t, lc_transform *out, lc_erro
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 4; j++)
             if (!isfinite(r.m[i][j]))
-                return lc_fail(err, LC_EARG, "transform", "transform has no finite inverse "
+                return error_fail(err, LC_EARG, "transform", "transform has no finite inverse "
                                "(determinant %g)", det);
     *out = r;
     return LC_OK;

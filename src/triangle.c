@@ -3,7 +3,7 @@
 #include "bvh.h"
 #include "shape.h"
 
-int tri_degenerate(const double *a, const double *b, const double *c)
+int triangle_degenerate(const double *a, const double *b, const double *c)
 {
     lc_vec3 p = v3(a[0], a[1], a[2]);
     lc_vec3 n = v3_cross(v3_sub(v3(b[0], b[1], b[2]), p), v3_sub(v3(c[0], c[1], c[2]), p));
@@ -11,7 +11,7 @@ int tri_degenerate(const double *a, const double *b, const double *c)
     return !(l > 0 && isfinite(l));
 }
 
-void tri_bounds(const double *a, const double *b, const double *c, float lo[3],
+void triangle_bounds(const double *a, const double *b, const double *c, float lo[3],
                 float hi[3])
 {
     bvh_bounds_empty(lo, hi);
@@ -20,7 +20,7 @@ void tri_bounds(const double *a, const double *b, const double *c, float lo[3],
     bvh_bounds_exact(lo, hi, c);
 }
 
-void tri_shear_init(lc_vec3 d, tri_shear *s)
+void triangle_shear_init(lc_vec3 d, triangle_shear *s)
 {
     double a[3] = {fabs(d.x), fabs(d.y), fabs(d.z)};
     int kz = a[0] > a[1] ? (a[0] > a[2] ? 0 : 2) : (a[1] > a[2] ? 1 : 2);
@@ -36,8 +36,8 @@ void tri_shear_init(lc_vec3 d, tri_shear *s)
 #ifdef LC_NAIVE
 /* Moller-Trumbore with a determinant epsilon, built only by `make NAIVE=1`
 ** for the benchmark: rays aimed at shared edges slip through it. */
-int tri_hit(const double *v0, const double *v1, const double *v2, const lc_ray *r,
-            const tri_shear *s, double tmin, double tmax, lc_hit *h, double bary[3])
+int triangle_hit(const double *v0, const double *v1, const double *v2, const ray *r,
+            const triangle_shear *s, double tmin, double tmax, hit *h, double bary[3])
 {
     (void)s;
     lc_vec3 p0 = v3(v0[0], v0[1], v0[2]), p1 = v3(v1[0], v1[1], v1[2]);
@@ -85,8 +85,8 @@ static double edge(double ax, double ay, double bx, double by)
 ** triangles sharing an edge compute that edge's function from the same
 ** sheared vertices, so one sees exactly the negation of the other: no ray
 ** slips between them. Zeros count as inside: edges and vertices are closed. */
-int tri_hit(const double *v0, const double *v1, const double *v2, const lc_ray *r,
-            const tri_shear *s, double tmin, double tmax, lc_hit *h, double bary[3])
+int triangle_hit(const double *v0, const double *v1, const double *v2, const ray *r,
+            const triangle_shear *s, double tmin, double tmax, hit *h, double bary[3])
 {
     const double *v[3] = {v0, v1, v2};
     double x[3], y[3], z[3];
@@ -123,11 +123,11 @@ int tri_hit(const double *v0, const double *v1, const double *v2, const lc_ray *
     double mz = max2(fabs(z[0]), max2(fabs(z[1]), fabs(z[2])));
     double mx = max2(fabs(x[0]), max2(fabs(x[1]), fabs(x[2])));
     double my = max2(fabs(y[0]), max2(fabs(y[1]), fabs(y[2])));
-    double dz = lc_gamma(3) * mz;
-    double dx = lc_gamma(5) * (mx + mz), dy = lc_gamma(5) * (my + mz);
-    double de = 2 * (lc_gamma(2) * mx * my + dy * mx + dx * my);
+    double dz = vec_gamma(3) * mz;
+    double dx = vec_gamma(5) * (mx + mz), dy = vec_gamma(5) * (my + mz);
+    double de = 2 * (vec_gamma(2) * mx * my + dy * mx + dx * my);
     double me = max2(fabs(e0), max2(fabs(e1), fabs(e2)));
-    double dt = 3 * (lc_gamma(3) * me * mz + de * mz + dz * me) * fabs(inv);
+    double dt = 3 * (vec_gamma(3) * me * mz + de * mz + dz * me) * fabs(inv);
     if (!(t > dt))
         return 0;
     lc_vec3 p0 = v3(v0[0], v0[1], v0[2]), p1 = v3(v1[0], v1[1], v1[2]);
@@ -139,7 +139,7 @@ int tri_hit(const double *v0, const double *v1, const double *v2, const lc_ray *
         return 0;
     h->t = t;
     h->p = v3_add(v3_add(a0, a1), a2);
-    h->perr = v3_mul(v3_add(v3_add(v3_abs(a0), v3_abs(a1)), v3_abs(a2)), lc_gamma(7));
+    h->perr = v3_mul(v3_add(v3_add(v3_abs(a0), v3_abs(a1)), v3_abs(a2)), vec_gamma(7));
     h->n = v3_mul(n, 1.0 / nl);
     bary[0] = b0;
     bary[1] = b1;

@@ -37,7 +37,7 @@ int validate_finite3(lc_vec3 v)
 lc_status validate_vec(lc_vec3 v, const char *field, lc_error *err)
 {
     if (!validate_finite3(v))
-        return lc_fail(err, LC_EARG, field, "must be finite, got (%g, %g, %g)",
+        return error_fail(err, LC_EARG, field, "must be finite, got (%g, %g, %g)",
                        v.x, v.y, v.z);
     return LC_OK;
 }
@@ -47,10 +47,10 @@ lc_status validate_nonzero(lc_vec3 v, const char *field, lc_error *err)
     if (validate_vec(v, field, err))
         return LC_EARG;
     if (v.x == 0 && v.y == 0 && v.z == 0)
-        return lc_fail(err, LC_EARG, field, "must not be zero-length");
+        return error_fail(err, LC_EARG, field, "must not be zero-length");
     /* A vector too small or too large to square in double has no direction. */
     if (!(v3_dot(v, v) > 0) || !isfinite(v3_dot(v, v)))
-        return lc_fail(err, LC_EARG, field, "length out of range, got (%g, %g, %g)",
+        return error_fail(err, LC_EARG, field, "length out of range, got (%g, %g, %g)",
                        v.x, v.y, v.z);
     return LC_OK;
 }
@@ -58,9 +58,9 @@ lc_status validate_nonzero(lc_vec3 v, const char *field, lc_error *err)
 static lc_status check_coef(double x, const char *field, lc_error *err)
 {
     if (!isfinite(x))
-        return lc_fail(err, LC_EARG, field, "must be finite, got %g", x);
+        return error_fail(err, LC_EARG, field, "must be finite, got %g", x);
     if (x < 0)
-        return lc_fail(err, LC_EARG, field, "must be >= 0, got %g", x);
+        return error_fail(err, LC_EARG, field, "must be >= 0, got %g", x);
     return LC_OK;
 }
 
@@ -69,10 +69,10 @@ static lc_status check_color(lc_color c, double max, const char *field, lc_error
     float ch[3] = {c.r, c.g, c.b};
     for (int i = 0; i < 3; i++) {
         if (!isfinite(ch[i]))
-            return lc_fail(err, LC_EARG, field, "component %d must be finite, got %g",
+            return error_fail(err, LC_EARG, field, "component %d must be finite, got %g",
                            i + 1, ch[i]);
         if (ch[i] < 0 || ch[i] > max)
-            return lc_fail(err, LC_EARG, field, "component %d must be in [0, %g], got %g",
+            return error_fail(err, LC_EARG, field, "component %d must be in [0, %g], got %g",
                            i + 1, max, ch[i]);
     }
     return LC_OK;
@@ -86,14 +86,14 @@ lc_status lc_material_check(const lc_material *m, lc_error *err)
         check_color(m->emission, HUGE_VAL, "emission", err))
         return LC_EARG;
     if (!isfinite(m->glossiness) || m->glossiness < 0 || m->glossiness >= 90)
-        return lc_fail(err, LC_EARG, "glossiness", "must be in [0, 90) degrees, got %g",
+        return error_fail(err, LC_EARG, "glossiness", "must be in [0, 90) degrees, got %g",
                        m->glossiness);
     if (m->cone_samples < 1 || m->cone_samples > LC_MAX_CONE_SAMPLES)
-        return lc_fail(err, LC_EARG, "cone_samples", "must be in [1, %d], got %d",
+        return error_fail(err, LC_EARG, "cone_samples", "must be in [1, %d], got %d",
                        LC_MAX_CONE_SAMPLES, m->cone_samples);
     if (m->absorb != LC_ABSORB_ALL && m->absorb != LC_ABSORB_DIFFUSE)
-        return lc_fail(err, LC_EARG, "absorb", "unknown absorb mode %d", (int)m->absorb);
-    lc_ok(err);
+        return error_fail(err, LC_EARG, "absorb", "unknown absorb mode %d", (int)m->absorb);
+    error_ok(err);
     return LC_OK;
 }
 
@@ -102,7 +102,7 @@ lc_status validate_not_parallel(lc_vec3 a, lc_vec3 b, const char *fa, const char
 {
     lc_vec3 c = v3_cross(v3_norm(a), v3_norm(b));
     if (!(v3_len(c) > PARALLEL_SIN))
-        return lc_fail(err, LC_EARG, fb, "'%s' and '%s' must not be parallel", fa, fb);
+        return error_fail(err, LC_EARG, fb, "'%s' and '%s' must not be parallel", fa, fb);
     return LC_OK;
 }
 
@@ -113,8 +113,8 @@ lc_status lc_point_light_check(const lc_point_light *l, lc_error *err)
         check_coef(l->intensity, "intensity", err))
         return LC_EARG;
     if (l->falloff != LC_FALLOFF_INVERSE_SQUARE && l->falloff != LC_FALLOFF_NONE)
-        return lc_fail(err, LC_EARG, "falloff", "unknown falloff %d", (int)l->falloff);
-    lc_ok(err);
+        return error_fail(err, LC_EARG, "falloff", "unknown falloff %d", (int)l->falloff);
+    error_ok(err);
     return LC_OK;
 }
 
@@ -125,19 +125,19 @@ lc_status lc_camera_check(const lc_camera *c, lc_error *err)
         return LC_EARG;
     lc_vec3 f = v3_sub(c->at, c->from);
     if (f.x == 0 && f.y == 0 && f.z == 0)
-        return lc_fail(err, LC_EARG, "at", "must differ from 'from'");
+        return error_fail(err, LC_EARG, "at", "must differ from 'from'");
     if (!isfinite(v3_dot(f, f)) || !(v3_dot(f, f) > 0))
-        return lc_fail(err, LC_EARG, "at", "distance to 'from' out of range");
+        return error_fail(err, LC_EARG, "at", "distance to 'from' out of range");
     if (validate_not_parallel(f, c->up, "at - from", "up", err))
         return LC_EARG;
     if (!isfinite(c->fov) || !(c->fov > 0 && c->fov < 180))
-        return lc_fail(err, LC_EARG, "fov", "must be in (0, 180) degrees, got %g", c->fov);
+        return error_fail(err, LC_EARG, "fov", "must be in (0, 180) degrees, got %g", c->fov);
     if (!isfinite(c->aperture) || c->aperture < 0)
-        return lc_fail(err, LC_EARG, "aperture", "must be finite and >= 0, got %g",
+        return error_fail(err, LC_EARG, "aperture", "must be finite and >= 0, got %g",
                        c->aperture);
     if (!isfinite(c->focus) || c->focus < 0)
-        return lc_fail(err, LC_EARG, "focus", "must be finite and >= 0, got %g", c->focus);
-    lc_ok(err);
+        return error_fail(err, LC_EARG, "focus", "must be finite and >= 0, got %g", c->focus);
+    error_ok(err);
     return LC_OK;
 }
 
@@ -163,40 +163,40 @@ lc_render_options lc_render_options_default(void)
 lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
 {
     if (o->width < 1 || o->width > LC_MAX_SIDE)
-        return lc_fail(err, LC_EARG, "width", "must be in [1, %d], got %d", LC_MAX_SIDE,
+        return error_fail(err, LC_EARG, "width", "must be in [1, %d], got %d", LC_MAX_SIDE,
                        o->width);
     if (o->height < 1 || o->height > LC_MAX_SIDE)
-        return lc_fail(err, LC_EARG, "height", "must be in [1, %d], got %d", LC_MAX_SIDE,
+        return error_fail(err, LC_EARG, "height", "must be in [1, %d], got %d", LC_MAX_SIDE,
                        o->height);
     if ((size_t)o->width * (size_t)o->height > LC_MAX_PIXELS)
-        return lc_fail(err, LC_EARG, "width", "%dx%d is more than %zu pixels",
+        return error_fail(err, LC_EARG, "width", "%dx%d is more than %zu pixels",
                        o->width, o->height, LC_MAX_PIXELS);
     if (o->samples < 1 || o->samples > LC_MAX_SAMPLES)
-        return lc_fail(err, LC_EARG, "samples", "must be in [1, %d], got %d", LC_MAX_SAMPLES,
+        return error_fail(err, LC_EARG, "samples", "must be in [1, %d], got %d", LC_MAX_SAMPLES,
                        o->samples);
     if ((unsigned)o->sampler > LC_SAMPLER_RANDOM)
-        return lc_fail(err, LC_EARG, "sampler", "unknown sampler %d", (int)o->sampler);
+        return error_fail(err, LC_EARG, "sampler", "unknown sampler %d", (int)o->sampler);
     if (o->light_samples < 0 || o->light_samples > LC_MAX_LIGHT_SAMPLES)
-        return lc_fail(err, LC_EARG, "light_samples", "must be in [0, %d], got %d",
+        return error_fail(err, LC_EARG, "light_samples", "must be in [0, %d], got %d",
                        LC_MAX_LIGHT_SAMPLES, o->light_samples);
     if (o->cone_samples < 0 || o->cone_samples > LC_MAX_CONE_SAMPLES)
-        return lc_fail(err, LC_EARG, "cone_samples", "must be in [0, %d], got %d",
+        return error_fail(err, LC_EARG, "cone_samples", "must be in [0, %d], got %d",
                        LC_MAX_CONE_SAMPLES, o->cone_samples);
     if (o->max_depth < -1 || o->max_depth > LC_MAX_DEPTH)
-        return lc_fail(err, LC_EARG, "max_depth", "must be in [0, %d], got %d",
+        return error_fail(err, LC_EARG, "max_depth", "must be in [0, %d], got %d",
                        LC_MAX_DEPTH, o->max_depth);
     if (!(o->noise >= 0 && o->noise <= HUGE_VAL) || isinf(o->noise))
-        return lc_fail(err, LC_EARG, "noise", "must be finite and >= 0, got %g", o->noise);
+        return error_fail(err, LC_EARG, "noise", "must be finite and >= 0, got %g", o->noise);
     if (o->noise > 0 && o->sampler == LC_SAMPLER_JITTER)
-        return lc_fail(err, LC_EARG, "sampler", "adaptive sampling (noise > 0) stops after "
+        return error_fail(err, LC_EARG, "sampler", "adaptive sampling (noise > 0) stops after "
                        "any number of samples: it needs 'sobol' or 'random', not 'jitter'");
     if (o->min_samples < 1 || o->min_samples > LC_MAX_SAMPLES)
-        return lc_fail(err, LC_EARG, "min_samples", "must be in [1, %d], got %d",
+        return error_fail(err, LC_EARG, "min_samples", "must be in [1, %d], got %d",
                        LC_MAX_SAMPLES, o->min_samples);
     if (!(o->cutoff >= 0 && o->cutoff <= 1))
-        return lc_fail(err, LC_EARG, "cutoff", "must be in [0, 1], got %g", o->cutoff);
+        return error_fail(err, LC_EARG, "cutoff", "must be in [0, 1], got %g", o->cutoff);
     if (o->threads < 0 || o->threads > LC_MAX_THREADS)
-        return lc_fail(err, LC_EARG, "threads", "must be in [0, %d], got %d", LC_MAX_THREADS,
+        return error_fail(err, LC_EARG, "threads", "must be in [0, %d], got %d", LC_MAX_THREADS,
                        o->threads);
     return LC_OK;
 }

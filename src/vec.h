@@ -77,7 +77,7 @@ static inline double next_toward(double x, int up)
 }
 
 /* gamma(n) bounds the relative error of n chained roundings (pbrt-v4, 6.8). */
-static inline double lc_gamma(int n)
+static inline double vec_gamma(int n)
 {
     const double e = DBL_EPSILON * 0.5;
     return (n * e) / (1 - n * e);

@@ -21,12 +21,12 @@ static double rnd(void)          /* deterministic, [0, 1) */
 }
 
 /* Nearest hit by testing every primitive: what the BVH must reproduce. */
-static int brute_closest(const lc_scene *s, const lc_ray *r, lc_hit *best)
+static int brute_closest(const lc_scene *s, const ray *r, hit *best)
 {
     int found = 0;
-    lc_hit h;
-    tri_shear sh;
-    tri_shear_init(r->d, &sh);
+    hit h;
+    triangle_shear sh;
+    triangle_shear_init(r->d, &sh);
     const shape_list *sp = &s->shapes[LC_SPHERE], *bx = &s->shapes[LC_BOX];
     for (size_t i = 0; i < sp->n; i++)
         if (sphere_hit(shape_at(sp, i), r, 0, HUGE_VAL, &h) && (!found || h.t < best->t)) {
@@ -43,7 +43,7 @@ static int brute_closest(const lc_scene *s, const lc_ray *r, lc_hit *best)
     for (size_t i = 0; i < s->c.ntris; i++) {
         const lc_mesh *m = s->meshes[s->c.tris[i].mesh].mesh;
         const uint32_t *f = m->f + 3 * (size_t)s->c.tris[i].face;
-        if (tri_hit(m->v + 3 * f[0], m->v + 3 * f[1], m->v + 3 * f[2], r, &sh, 0, HUGE_VAL,
+        if (triangle_hit(m->v + 3 * f[0], m->v + 3 * f[1], m->v + 3 * f[2], r, &sh, 0, HUGE_VAL,
                     &h, h.bary) && (!found || h.t < best->t)) {
             *best = h;
             best->shape = PRIM_ID(PRIM_TRIANGLE, i);
@@ -92,23 +92,23 @@ static void bvh_matches_brute_force(void **state)
     }
     assert_true(lc_scene_add_mesh(s, mesh, mi, &err) >= 0);
     lc_mesh_free(mesh);                      /* the scene keeps its own hold */
-    assert_int_equal(scene_compile(s, NULL, &err), LC_OK);
+    assert_int_equal(compile_scene(s, NULL, &err), LC_OK);
     assert_true(s->c.bvh.nnodes > 1);
 
     int hits = 0, mismatches = 0;
     for (int i = 0; i < 20000; i++) {
-        lc_ray r = {v3(30 * rnd() - 15, 30 * rnd() - 15, 30 * rnd() - 15), random_dir()};
-        lc_hit a, b;
+        ray r = {v3(30 * rnd() - 15, 30 * rnd() - 15, 30 * rnd() - 15), random_dir()};
+        hit a, b;
         memset(&a, 0, sizeof a);
         memset(&b, 0, sizeof b);
-        int fa = scene_closest(s, &r, HUGE_VAL, &a), fb = brute_closest(s, &r, &b);
+        int fa = intersect_closest(s, &r, HUGE_VAL, &a, NULL), fb = brute_closest(s, &r, &b);
         /* the same primitive; t to a few ulps (the BVH path makes its
         ** reciprocals with one division, the brute force with three) */
         if (fa != fb || (fa && (fabs(a.t - b.t) > 1e-14 * b.t || a.shape != b.shape)))
             mismatches++;
         hits += fa;
         /* any-hit agrees with nearest-hit */
-        if (scene_occluded(s, &r, HUGE_VAL) != fa)
+        if (intersect_occluded(s, &r, HUGE_VAL, NULL) != fa)
             mismatches++;
     }
     printf("bvh: %d of 20000 rays hit, %d mismatches with brute force\n", hits, mismatches);
@@ -145,7 +145,7 @@ static void mesh_is_watertight(void **state)
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
     assert_true(lc_scene_add_mesh(s, mesh, mi, &err) >= 0);
-    assert_int_equal(scene_compile(s, NULL, &err), LC_OK);
+    assert_int_equal(compile_scene(s, NULL, &err), LC_OK);
     assert_true(s->c.degenerate > 0);        /* the poles' zero-area faces */
 
     int rays = 0, misses = 0;
@@ -159,10 +159,10 @@ static void mesh_is_watertight(void **state)
                                     a[2] + w * (b[2] - a[2]));
                 /* from a random outside point that sees the target face-on */
                 lc_vec3 o = v3_madd(v3_mul(target, 3), random_dir(), 0.5);
-                lc_ray r = {o, v3_norm(v3_sub(target, o))};
-                lc_hit h;
+                ray r = {o, v3_norm(v3_sub(target, o))};
+                hit h;
                 rays++;
-                if (!scene_closest(s, &r, HUGE_VAL, &h))
+                if (!intersect_closest(s, &r, HUGE_VAL, &h, NULL))
                     misses++;
             }
         }
@@ -188,12 +188,12 @@ static void degenerate_triangles_are_skipped(void **state)
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
     lc_scene_add_mesh(s, mesh, mi, &err);
-    assert_int_equal(scene_compile(s, NULL, &err), LC_OK);
+    assert_int_equal(compile_scene(s, NULL, &err), LC_OK);
     assert_int_equal(s->c.degenerate, 3);
     assert_int_equal(s->c.ntris, 0);
-    lc_ray r = {v3(1, 1, -5), v3(0, 0, 1)};
-    lc_hit h;
-    assert_false(scene_closest(s, &r, HUGE_VAL, &h));
+    ray r = {v3(1, 1, -5), v3(0, 0, 1)};
+    hit h;
+    assert_false(intersect_closest(s, &r, HUGE_VAL, &h, NULL));
     lc_scene_free(s);
     lc_mesh_free(mesh);
 }

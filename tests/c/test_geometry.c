@@ -17,9 +17,9 @@
 
 /* ---- Helpers ------------------------------------------------------------- */
 
-static lc_ray mkray(lc_vec3 o, lc_vec3 d)
+static ray mkray(lc_vec3 o, lc_vec3 d)
 {
-    lc_ray r = {o, d};
+    ray r = {o, d};
     return r;
 }
 
@@ -102,7 +102,7 @@ static void assert_near_ulps_at(double a, double b, int n, const char *file, int
 
 /* Every number in a hit is finite, and the normal is a unit vector (1e-15:
 ** a normalisation is ~4 roundings). */
-static void assert_hit_sane(const lc_hit *h)
+static void assert_hit_sane(const hit *h)
 {
     assert_true(isfinite(h->t));
     assert_true(v3_finite(h->p));
@@ -113,31 +113,31 @@ static void assert_hit_sane(const lc_hit *h)
 }
 
 /* A record filled with a byte pattern: a miss must leave every byte alone. */
-static void poison(lc_hit *h) { memset(h, 0xa5, sizeof *h); }
+static void poison(hit *h) { memset(h, 0xa5, sizeof *h); }
 
-static int untouched(const lc_hit *h)
+static int untouched(const hit *h)
 {
-    lc_hit ref;
+    hit ref;
     poison(&ref);
     return memcmp(h, &ref, sizeof ref) == 0;
 }
 
-typedef int (*hit_fn)(const void *g, const lc_ray *r, double tmin, double tmax,
-                      lc_hit *h);
+typedef int (*hit_fn)(const void *g, const ray *r, double tmin, double tmax,
+                      hit *h);
 
-static int s_hit(const void *g, const lc_ray *r, double a, double b, lc_hit *h)
+static int s_hit(const void *g, const ray *r, double a, double b, hit *h)
 {
     return sphere_hit(g, r, a, b, h);
 }
-static int q_hit(const void *g, const lc_ray *r, double a, double b, lc_hit *h)
+static int q_hit(const void *g, const ray *r, double a, double b, hit *h)
 {
     return quad_hit(g, r, a, b, h);
 }
-static int b_hit(const void *g, const lc_ray *r, double a, double b, lc_hit *h)
+static int b_hit(const void *g, const ray *r, double a, double b, hit *h)
 {
     return box_hit(g, r, a, b, h);
 }
-static int p_hit(const void *g, const lc_ray *r, double a, double b, lc_hit *h)
+static int p_hit(const void *g, const ray *r, double a, double b, hit *h)
 {
     return plane_hit(g, r, a, b, h);
 }
@@ -145,10 +145,10 @@ static int p_hit(const void *g, const lc_ray *r, double a, double b, lc_hit *h)
 /* Asserts a miss over (tmin, tmax) that leaves the record untouched. */
 #define assert_miss(fn, g, r, tmin, tmax) \
     assert_miss_at((fn), (g), (r), (tmin), (tmax), __FILE__, __LINE__)
-static void assert_miss_at(hit_fn fn, const void *g, lc_ray r, double tmin, double tmax,
+static void assert_miss_at(hit_fn fn, const void *g, ray r, double tmin, double tmax,
                            const char *file, int line)
 {
-    lc_hit h;
+    hit h;
     poison(&h);
     if (fn(g, &r, tmin, tmax, &h))
         fail_msg("%s:%d: ray (%.17g, %.17g, %.17g) + t (%.17g, %.17g, %.17g) hits at "
@@ -159,9 +159,9 @@ static void assert_miss_at(hit_fn fn, const void *g, lc_ray r, double tmin, doub
 
 /* Asserts a hit over (0, inf) and returns it. */
 #define get_hit(fn, g, r) get_hit_at((fn), (g), (r), __FILE__, __LINE__)
-static lc_hit get_hit_at(hit_fn fn, const void *g, lc_ray r, const char *file, int line)
+static hit get_hit_at(hit_fn fn, const void *g, ray r, const char *file, int line)
 {
-    lc_hit h;
+    hit h;
     poison(&h);
     if (!fn(g, &r, 0, HUGE_VAL, &h))
         fail_msg("%s:%d: ray (%.17g, %.17g, %.17g) + t (%.17g, %.17g, %.17g) misses",
@@ -212,7 +212,7 @@ static void sphere_from_outside(void **state)
 {
     (void)state;
     sphere_geom g = mksphere(v3(0, 0, 0), 1);
-    lc_hit h = get_hit(s_hit, &g, mkray(v3(0, 0, -5), v3(0, 0, 1)));
+    hit h = get_hit(s_hit, &g, mkray(v3(0, 0, -5), v3(0, 0, 1)));
     assert_true(h.t == 4);
     assert_v3_equal(h.p, v3(0, 0, -1));
     assert_v3_equal(h.n, v3(0, 0, -1));
@@ -235,7 +235,7 @@ static void sphere_from_inside(void **state)
     const double r = 2;
     lc_vec3 c = v3(1, 2, 3);
     sphere_geom g = mksphere(c, r);
-    lc_hit h = get_hit(s_hit, &g, mkray(c, v3(0, 0, 1)));
+    hit h = get_hit(s_hit, &g, mkray(c, v3(0, 0, 1)));
     assert_true(h.t == r);
     assert_v3_equal(h.n, v3(0, 0, 1));                  /* outward */
     assert_v3_equal(h.p, v3(1, 2, 5));
@@ -272,7 +272,7 @@ static void sphere_tangent(void **state)
 {
     (void)state;
     sphere_geom g = mksphere(v3(0, 0, 0), 1);
-    lc_hit h = get_hit(s_hit, &g, mkray(v3(-5, 1, 0), v3(1, 0, 0)));
+    hit h = get_hit(s_hit, &g, mkray(v3(-5, 1, 0), v3(1, 0, 0)));
     assert_near_ulps(h.t, 5, 4);
     assert_v3_near(h.p, v3(0, 1, 0), 4 * ulp(5));   /* p.x = t - 5, exactly */
     assert_v3_near(h.n, v3(0, 1, 0), 4 * ulp(5));
@@ -287,7 +287,7 @@ static void sphere_tangent(void **state)
     assert_near_ulps(h.t, (double)(5 - half), 4);
     assert_true(h.n.x < 0);
     double t0 = h.t;
-    lc_ray r = mkray(v3(-5, y, 0), v3(1, 0, 0));
+    ray r = mkray(v3(-5, y, 0), v3(1, 0, 0));
     poison(&h);
     assert_true(sphere_hit(&g, &r, t0, HUGE_VAL, &h));  /* tmin = near root */
     assert_near_ulps(h.t, (double)(5 + half), 2);        /* q: sqrt and one sum */
@@ -309,8 +309,8 @@ static void sphere_misses(void **state)
     /* tmin at the far root. */
     assert_miss(s_hit, &g, mkray(v3(0, 0, -5), v3(0, 0, 1)), 6, HUGE_VAL);
     /* tmin between the roots: the far one. */
-    lc_hit h;
-    lc_ray r = mkray(v3(0, 0, -5), v3(0, 0, 1));
+    hit h;
+    ray r = mkray(v3(0, 0, -5), v3(0, 0, 1));
     assert_true(sphere_hit(&g, &r, 4, HUGE_VAL, &h));
     assert_true(h.t == 6);
     assert_v3_equal(h.n, v3(0, 0, 1));
@@ -330,7 +330,7 @@ static long double sphere_dist(const sphere_geom *g, lc_vec3 p)
 }
 
 /* The near root for a unit-direction ray, in long double. */
-static long double sphere_near_root(const sphere_geom *g, lc_ray r)
+static long double sphere_near_root(const sphere_geom *g, ray r)
 {
     long double f[3] = {(long double)r.o.x - g->c.x, (long double)r.o.y - g->c.y,
                         (long double)r.o.z - g->c.z};
@@ -361,8 +361,8 @@ static void sphere_small_and_far(void **state)
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         sphere_geom g = mksphere(cases[i].c, cases[i].r);
-        lc_ray r = mkray(cases[i].o, v3(0, 0, 1));
-        lc_hit h = get_hit(s_hit, &g, r);
+        ray r = mkray(cases[i].o, v3(0, 0, 1));
+        hit h = get_hit(s_hit, &g, r);
         long double tr = sphere_near_root(&g, r);
         if (!near_ulps(h.t, (double)tr, 4))
             fail_msg("case %zu: t = %.17g, closed form %.17Lg", i, h.t, tr);
@@ -385,14 +385,14 @@ static quad_geom unit_quad(void)
     return mkquad(v3(1, 1, 3), v3(1, 0, 0), v3(0, 1, 0));
 }
 
-static lc_ray up_at(double x, double y) { return mkray(v3(x, y, 0), v3(0, 0, 1)); }
+static ray up_at(double x, double y) { return mkray(v3(x, y, 0), v3(0, 0, 1)); }
 
 static void quad_inside_hit(void **state)
 {
     (void)state;
     quad_geom g = unit_quad();
     assert_int_equal(g.axis, 2);
-    lc_hit h = get_hit(q_hit, &g, up_at(1.25, 1.5));
+    hit h = get_hit(q_hit, &g, up_at(1.25, 1.5));
     assert_true(h.t == 3);
     assert_v3_equal(h.p, v3(1.25, 1.5, 3));
     assert_v3_equal(h.n, v3(0, 0, 1));
@@ -434,7 +434,7 @@ static void quad_edges_by_one_ulp(void **state)
     /* Exactly on each edge and at each corner: bounds are inclusive. */
     double e[2] = {1, 2};
     for (int i = 0; i < 2; i++) {
-        lc_hit h = get_hit(q_hit, &g, up_at(e[i], 1.5));
+        hit h = get_hit(q_hit, &g, up_at(e[i], 1.5));
         assert_v3_equal(h.p, v3(e[i], 1.5, 3));
         h = get_hit(q_hit, &g, up_at(1.5, e[i]));
         assert_v3_equal(h.p, v3(1.5, e[i], 3));
@@ -511,7 +511,7 @@ static void box_aligned_faces(void **state)
             {{0.5, 0.25, 10}, {0, 0, -1}, {0.5, 0.25, 3}, {0, 0, 1}, 7},
         };
         for (int i = 0; i < 6; i++) {
-            lc_hit h = get_hit(b_hit, g, mkray(f[i].o, f[i].d));
+            hit h = get_hit(b_hit, g, mkray(f[i].o, f[i].d));
             assert_true(h.t == f[i].t);
             assert_v3_equal(h.p, f[i].p);
             assert_v3_equal(h.n, f[i].n);
@@ -520,7 +520,7 @@ static void box_aligned_faces(void **state)
     }
     /* -0 direction components pick the same slabs as +0. */
     box_geom g = cube();
-    lc_hit h = get_hit(b_hit, &g, mkray(v3(-10, 0.5, 0.25), v3(1, -0.0, -0.0)));
+    hit h = get_hit(b_hit, &g, mkray(v3(-10, 0.5, 0.25), v3(1, -0.0, -0.0)));
     assert_true(h.t == 9);
     assert_v3_equal(h.n, v3(-1, 0, 0));
 }
@@ -533,7 +533,7 @@ static void box_aligned_edges_and_corners(void **state)
     box_geom g = cube();
     const double s = SQRT1_2;             /* d.x == d.y: both slabs compute alike */
     /* Edge between -x and -y, at z = 0.5. */
-    lc_hit h = get_hit(b_hit, &g, mkray(v3(-3, -3, 0.5), v3(s, s, 0)));
+    hit h = get_hit(b_hit, &g, mkray(v3(-3, -3, 0.5), v3(s, s, 0)));
     assert_v3_equal(h.n, v3(-1, 0, 0));
     assert_true(h.t == 2 * (1 / s));
     assert_true(h.p.x == -1);                          /* snapped on x only */
@@ -581,7 +581,7 @@ static void box_origin_inside(void **state)
         {{0, 0, 1}, {0, 0, 1}, 3.5},   {{0, 0, -1}, {0, 0, -1}, 2.5},
     };
     for (int i = 0; i < 6; i++) {
-        lc_hit h = get_hit(b_hit, &g, mkray(o, f[i].d));
+        hit h = get_hit(b_hit, &g, mkray(o, f[i].d));
         assert_true(h.t == f[i].t);
         assert_v3_equal(h.n, f[i].n);                 /* outward: the exit face */
     }
@@ -601,7 +601,7 @@ static void box_ray_in_face_plane(void **state)
     for (int k = 0; k < 2; k++) {
         lc_vec3 d = v3(1, zs[k], zs[k]);
         /* On y = hi and on y = lo, coming from outside in x. */
-        lc_hit h = get_hit(b_hit, &g, mkray(v3(-3, 1, 0), d));
+        hit h = get_hit(b_hit, &g, mkray(v3(-3, 1, 0), d));
         assert_true(h.t == 2);
         assert_v3_equal(h.n, v3(-1, 0, 0));
         assert_v3_equal(h.p, v3(-1, 1, 0));
@@ -639,14 +639,14 @@ static void box_nan_ray_misses(void **state)
     gs[0] = cube();
     rotated_edges(e);
     gs[1] = mkbox(v3(-0.5, -0.5, -0.5), e[0], e[1], e[2]);
-    lc_ray rays[4] = {
+    ray rays[4] = {
         {{0, 0, -3}, {0, NAN, 1}}, {{NAN, 0, -3}, {0, 0, 1}},
         {{0, 0, -3}, {NAN, NAN, NAN}}, {{0.25, 0.25, NAN}, {0, 0, 1}},
     };
     int hits = 0;
     for (int k = 0; k < 2; k++)
         for (int i = 0; i < 4; i++) {
-            lc_hit h;
+            hit h;
             poison(&h);
             if (box_hit(&gs[k], &rays[i], 0, HUGE_VAL, &h)) {
                 hits++;
@@ -687,7 +687,7 @@ static void box_rotated(void **state)
         for (int hi = 0; hi < 2; hi++) {
             lc_vec3 n = hi ? nhi : v3_neg(nhi);
             lc_vec3 fc = v3_madd(centre, e[i], hi ? 0.5 : -0.5);
-            lc_hit h = get_hit(b_hit, &g, mkray(v3_madd(fc, n, 5), v3_neg(n)));
+            hit h = get_hit(b_hit, &g, mkray(v3_madd(fc, n, 5), v3_neg(n)));
             if (fabs(h.t - 5) > 1e-14 * 5)
                 fail_msg("face %d%c: t = %.17g", i, hi ? '+' : '-', h.t);
             assert_v3_near(h.n, n, 1e-14);
@@ -706,7 +706,7 @@ static void box_rotated(void **state)
         lc_vec3 ej = e[(i + 1) % 3];
         lc_vec3 mid = v3_madd(v3_madd(q, e[i], 0.5), ej, 1);   /* on edge j=1, k=0 */
         lc_vec3 out = v3_norm(v3_sub(mid, centre));
-        lc_hit h = get_hit(b_hit, &g, mkray(v3_madd(mid, out, 4), v3_neg(out)));
+        hit h = get_hit(b_hit, &g, mkray(v3_madd(mid, out, 4), v3_neg(out)));
         int j = (i + 1) % 3, k = (i + 2) % 3;
         if (!v3_eq(h.n, g.un[j]) && !v3_eq(h.n, v3_neg(g.un[k])))
             fail_msg("edge %d: normal (%.17g, %.17g, %.17g)", i, h.n.x, h.n.y, h.n.z);
@@ -714,7 +714,7 @@ static void box_rotated(void **state)
     }
     lc_vec3 corner = v3_add(v3_add(q, e[0]), e[1]);            /* (1, 1, 0) local */
     lc_vec3 out = v3_norm(v3_sub(corner, centre));
-    lc_hit h = get_hit(b_hit, &g, mkray(v3_madd(corner, out, 4), v3_neg(out)));
+    hit h = get_hit(b_hit, &g, mkray(v3_madd(corner, out, 4), v3_neg(out)));
     if (!v3_eq(h.n, g.un[0]) && !v3_eq(h.n, g.un[1]) && !v3_eq(h.n, v3_neg(g.un[2])))
         fail_msg("corner: normal (%.17g, %.17g, %.17g)", h.n.x, h.n.y, h.n.z);
     assert_v3_near(h.p, corner, 1e-13);
@@ -734,7 +734,7 @@ static void plane_hit_and_snap(void **state)
     plane_geom g = mkplane(v3(0, 0, 0), v3(0, 1, 0));
     assert_int_equal(g.axis, 1);
     const double s = SQRT1_2;
-    lc_hit h = get_hit(p_hit, &g, mkray(v3(1, 2, 3), v3(s, -s, 0)));
+    hit h = get_hit(p_hit, &g, mkray(v3(1, 2, 3), v3(s, -s, 0)));
     assert_true(h.t == 2 / s);                          /* (0 - 2) / -s: 1 rounding */
     assert_near_ulps(h.t, 2 * SQRT2, 2);
     assert_true(h.p.y == 0);                            /* snapped, exactly */
@@ -798,7 +798,7 @@ static void plane_scaled_normal_is_exact(void **state)
     /* The one that self-hits if k was computed with the inexact normal. */
     assert_miss(p_hit, &g, mkray(v3(3, 1, 4), v3(0, -1, 0)), 0, HUGE_VAL);
     plane_geom far = mkplane(v3(0, 1e7, 0), v3(0, 49, 0));
-    lc_hit h = get_hit(p_hit, &far, mkray(v3(0, 1e7 + 1, 0), v3(0, -1, 0)));
+    hit h = get_hit(p_hit, &far, mkray(v3(0, 1e7 + 1, 0), v3(0, -1, 0)));
     if (h.t != 1)
         fail_msg("t = %.17g, want 1 (p.y = %.17g)", h.t, h.p.y);
     assert_miss(p_hit, &far, mkray(v3(5, 1e7, 0), v3(0.6, -0.8, 0)), 0, HUGE_VAL);
@@ -814,7 +814,7 @@ static void plane_grazing(void **state)
     plane_geom g = mkplane(v3(0, 0, 0), v3(0, 1, 0));
     const double a = 1e-12;
     lc_vec3 d = v3(cos(a), -sin(a), 0);
-    lc_hit h = get_hit(p_hit, &g, mkray(v3(0, 1, 0), d));
+    hit h = get_hit(p_hit, &g, mkray(v3(0, 1, 0), d));
     long double tr = 1.0L / sinl(1e-12L);
     assert_near_ulps(h.t, (double)tr, 2);
     assert_true(h.p.y == 0);
@@ -881,23 +881,23 @@ static void spawn_sphere(void **state)
             for (int k = 0; k < SPAWN_RAYS; k++) {
                 lc_vec3 o = v3_madd(c, rand_unit(&seed), (k % 4 == 3 ? 0.5 : 4) * r);
                 lc_vec3 to = v3_madd(c, rand_in_ball(&seed), 0.9 * r);
-                lc_ray cam = mkray(o, v3_norm(v3_sub(to, o)));
-                lc_hit h;
+                ray cam = mkray(o, v3_norm(v3_sub(to, o)));
+                hit h;
                 if (!sphere_hit(&g, &cam, 0, HUGE_VAL, &h))
                     fail_msg("r %g, T %g: camera ray %d misses", r, shifts[ti], k);
                 tested++;
                 long double t0, t1, disc;
                 /* Leaving. */
                 lc_vec3 w = rand_dir(&seed, h.n, 1, k);
-                lc_ray out = mkray(spawn_origin(&h, w), w);
-                lc_hit h2;
+                ray out = mkray(spawn_origin(&h, w), w);
+                hit h2;
                 if (sphere_hit(&g, &out, 0, HUGE_VAL, &h2))
                     self++;
                 if (sphere_roots_l(&g, out.o, w, &t0, &t1, &disc) && t1 > 0)
                     outside_bad++;      /* the true sphere is ahead of the origin */
                 /* Entering. */
                 w = rand_dir(&seed, h.n, -1, k);
-                lc_ray in = mkray(spawn_origin(&h, w), w);
+                ray in = mkray(spawn_origin(&h, w), w);
                 if (!sphere_hit(&g, &in, 0, HUGE_VAL, &h2)) {
                     lost++;
                     continue;
@@ -973,8 +973,8 @@ static void spawn_quad(void **state)
                 while (fabs(v3_dot(a, g.un)) < 0.1)
                     a = rand_unit(&seed);
                 lc_vec3 o = v3_madd(to, a, 4 * s);
-                lc_ray cam = mkray(o, v3_norm(v3_sub(to, o)));
-                lc_hit h;
+                ray cam = mkray(o, v3_norm(v3_sub(to, o)));
+                hit h;
                 if (!quad_hit(&g, &cam, 0, HUGE_VAL, &h)) {
                     if (edge)
                         edge_missed++;   /* the aim point rounded off the edge */
@@ -985,8 +985,8 @@ static void spawn_quad(void **state)
                 tested++;
                 for (int side = -1; side <= 1; side += 2) {
                     lc_vec3 w = rand_dir(&seed, h.n, side, k);
-                    lc_ray sr = mkray(spawn_origin(&h, w), w);
-                    lc_hit h2;
+                    ray sr = mkray(spawn_origin(&h, w), w);
+                    hit h2;
                     if (quad_hit(&g, &sr, 0, HUGE_VAL, &h2))
                         self++;
                     long double dist = ((long double)sr.o.x - q.x) * g.n.x +
@@ -1045,8 +1045,8 @@ static void spawn_box(void **state)
                 lc_vec3 d = v3_norm(v3_sub(to, o));
                 if (k % 4 == 3)
                     d = rand_unit(&seed);
-                lc_ray cam = mkray(o, d);
-                lc_hit h;
+                ray cam = mkray(o, d);
+                hit h;
                 if (!box_hit(&g, &cam, 0, HUGE_VAL, &h)) {
                     if (fixed && k % 4 != 3)
                         edge_missed++;   /* the aim point rounded off the box */
@@ -1057,8 +1057,8 @@ static void spawn_box(void **state)
                 assert_hit_sane(&h);
                 tested++;
                 lc_vec3 w = rand_dir(&seed, h.n, 1, k);
-                lc_ray sr = mkray(spawn_origin(&h, w), w);
-                lc_hit h2;
+                ray sr = mkray(spawn_origin(&h, w), w);
+                hit h2;
                 if (box_hit(&g, &sr, 0, HUGE_VAL, &h2))
                     self++;
             }

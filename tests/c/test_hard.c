@@ -70,9 +70,9 @@ static void rand_frame(uint64_t *seed, int i, lc_vec3 e[3])
     e[2] = v3_cross(x, y);
 }
 
-static lc_ray mkray(lc_vec3 o, lc_vec3 d)
+static ray mkray(lc_vec3 o, lc_vec3 d)
 {
-    lc_ray r = {o, d};
+    ray r = {o, d};
     return r;
 }
 
@@ -98,7 +98,7 @@ static void add_shape(lc_scene *s, lc_shape sh, int mat)
 static void compile(lc_scene *s)
 {
     lc_error err;
-    if (scene_compile(s, NULL, &err) != LC_OK)
+    if (compile_scene(s, NULL, &err) != LC_OK)
         fail_msg("compile: %s", err.msg);
 }
 
@@ -157,12 +157,12 @@ static void spawn_triangle(void **state)
                 while (fabs(v3_dot(a, n)) < 0.1)
                     a = rand_unit(&seed);
                 lc_vec3 o = v3_madd(to, a, 4 * s);
-                lc_ray cam = mkray(o, v3_norm(v3_sub(to, o)));
-                tri_shear sh;
-                tri_shear_init(cam.d, &sh);
-                lc_hit h;
+                ray cam = mkray(o, v3_norm(v3_sub(to, o)));
+                triangle_shear sh;
+                triangle_shear_init(cam.d, &sh);
+                hit h;
                 double bary[3];
-                if (!tri_hit(p[0], p[1], p[2], &cam, &sh, 0, HUGE_VAL, &h, bary)) {
+                if (!triangle_hit(p[0], p[1], p[2], &cam, &sh, 0, HUGE_VAL, &h, bary)) {
                     if (aim)
                         aim_missed++;     /* the aim point rounded off the triangle */
                     else
@@ -172,11 +172,11 @@ static void spawn_triangle(void **state)
                 tested++;
                 for (int side = -1; side <= 1; side += 2) {
                     lc_vec3 w = rand_dir(&seed, h.n, side, k);
-                    lc_ray sr = mkray(spawn_origin(&h, w), w);
-                    tri_shear_init(w, &sh);
-                    lc_hit h2;
+                    ray sr = mkray(spawn_origin(&h, w), w);
+                    triangle_shear_init(w, &sh);
+                    hit h2;
                     double b2s[3];
-                    if (tri_hit(p[0], p[1], p[2], &sr, &sh, 0, HUGE_VAL, &h2, b2s))
+                    if (triangle_hit(p[0], p[1], p[2], &sr, &sh, 0, HUGE_VAL, &h2, b2s))
                         self++;
                     /* signed distance of the new origin from the true plane */
                     long double nx = (long double)e1.y * e2.z - (long double)e1.z * e2.y;
@@ -279,21 +279,21 @@ static long double outside(const face *fs, int nf, lc_vec3 o, lc_vec3 w, double 
 ** bad[0..3]: outgoing rays meeting a face past that, incoming rays lost,
 ** incoming rays meeting the face they leave, outgoing rays meeting a face
 ** within rounding (the seam). */
-static int check_spawn(const lc_scene *sc, const face *fs, int nf, const lc_hit *h,
+static int check_spawn(const lc_scene *sc, const face *fs, int nf, const hit *h,
                        lc_vec3 w, double tol, double size, int bad[4])
 {
     int side = leaves(fs, nf, h->p, w, tol, size);
     if (!side)
         return 0;
-    lc_ray sr = mkray(spawn_origin(h, w), w);
-    lc_hit h2;
-    int hit = scene_closest(sc, &sr, HUGE_VAL, &h2);
-    if (side > 0 && hit) {
+    ray sr = mkray(spawn_origin(h, w), w);
+    hit h2;
+    int found = intersect_closest(sc, &sr, HUGE_VAL, &h2, NULL);
+    if (side > 0 && found) {
         double m = v3_max_abs(h2.p);
         double ulp = nextafter(m, HUGE_VAL) - m;
         bad[outside(fs, nf, sr.o, w, h2.t) <= 4 * ulp + tol ? 3 : 0]++;
     }
-    else if (side < 0 && !hit)
+    else if (side < 0 && !found)
         bad[1]++;
     else if (side < 0 && h2.shape == h->shape)
         bad[2]++;
@@ -420,9 +420,9 @@ static void spawn_closed_mesh(void **state)
                 if (v3_dot(dir, out) < 0.2)
                     dir = v3_norm(v3_madd(dir, out, 1.2 - v3_dot(dir, out)));
                 lc_vec3 o = v3_madd(to, dir, 3 * s);
-                lc_ray cam = mkray(o, v3_norm(v3_sub(to, o)));
-                lc_hit h;
-                if (!scene_closest(sc, &cam, HUGE_VAL, &h)) {
+                ray cam = mkray(o, v3_norm(v3_sub(to, o)));
+                hit h;
+                if (!intersect_closest(sc, &cam, HUGE_VAL, &h, NULL)) {
                     cam_missed++;
                     continue;
                 }
@@ -520,9 +520,9 @@ static void spawn_cube_of_quads(void **state)
                             dir = v3_norm(v3_madd(dir, out, 1.3 - v3_dot(dir, out)));
                         o = v3_madd(to, dir, 4 * s);
                     }
-                    lc_ray cam = mkray(o, v3_norm(v3_sub(to, o)));
-                    lc_hit h;
-                    if (!scene_closest(sc, &cam, HUGE_VAL, &h)) {
+                    ray cam = mkray(o, v3_norm(v3_sub(to, o)));
+                    hit h;
+                    if (!intersect_closest(sc, &cam, HUGE_VAL, &h, NULL)) {
                         if (inside && exact)
                             escaped++;           /* out through a crack */
                         continue;
@@ -598,18 +598,18 @@ static void spawn_box_solid(void **state)
                     if (v3_dot(dir, out) < 0.3)
                         dir = v3_norm(v3_madd(dir, out, 1.3 - v3_dot(dir, out)));
                     lc_vec3 o = v3_madd(to, dir, 4 * s);
-                    lc_ray cam = mkray(o, v3_norm(v3_sub(to, o)));
-                    lc_hit h;
-                    if (!scene_closest(sc, &cam, HUGE_VAL, &h))
+                    ray cam = mkray(o, v3_norm(v3_sub(to, o)));
+                    hit h;
+                    if (!intersect_closest(sc, &cam, HUGE_VAL, &h, NULL))
                         continue;                /* aimed at an edge, rounded off */
                     tested++;
                     /* out of the box: nothing, not even at t ~ 0 */
                     lc_vec3 w = rand_dir(&seed, h.n, 1, k);
                     if (leaves(fs, 6, h.p, w, tol, 4 * s) > 0) {
-                        lc_ray sr = mkray(spawn_origin(&h, w), w);
-                        lc_hit h2;
+                        ray sr = mkray(spawn_origin(&h, w), w);
+                        hit h2;
                         rays++;
-                        if (scene_closest(sc, &sr, HUGE_VAL, &h2))
+                        if (intersect_closest(sc, &sr, HUGE_VAL, &h2, NULL))
                             bad[0]++;
                     }
                 }
@@ -643,15 +643,15 @@ static void coating_does_not_leak(void **state)
             compile(sc);
             uint64_t seed = 7000 + si * 10 + ti;
             for (int k = 0; k < 300; k++) {
-                lc_ray from_c = mkray(c, rand_unit(&seed));
-                lc_hit h;
-                assert_true(scene_closest(sc, &from_c, HUGE_VAL, &h));
+                ray from_c = mkray(c, rand_unit(&seed));
+                hit h;
+                assert_true(intersect_closest(sc, &from_c, HUGE_VAL, &h, NULL));
                 assert_true(h.shape == PRIM_ID(PRIM_SPHERE, 0));
                 tested++;
                 lc_vec3 w = rand_dir(&seed, h.n, 1, k);
-                lc_ray sr = mkray(spawn_origin(&h, w), w);
-                lc_hit h2;
-                if (!scene_closest(sc, &sr, HUGE_VAL, &h2)) {
+                ray sr = mkray(spawn_origin(&h, w), w);
+                hit h2;
+                if (!intersect_closest(sc, &sr, HUGE_VAL, &h2, NULL)) {
                     leaks++;
                     continue;
                 }
@@ -706,15 +706,15 @@ static void thin_slab_occludes(void **state)
                 lc_vec3 to = v3_madd(o0, v3(cx + 1.4 * (lcg(&seed) - 0.5), 0,
                                             1.4 * (lcg(&seed) - 0.5)), s);
                 lc_vec3 from = v3_madd(to, v3(0.3, 1, -0.4), 0.5 * s);
-                lc_ray cam = mkray(from, v3_norm(v3_sub(to, from)));
-                lc_hit h;
-                assert_true(scene_closest(sc, &cam, HUGE_VAL, &h));
+                ray cam = mkray(from, v3_norm(v3_sub(to, from)));
+                hit h;
+                assert_true(intersect_closest(sc, &cam, HUGE_VAL, &h, NULL));
                 assert_true(PRIM_KIND(h.shape) == PRIM_PLANE);
                 tested++;
                 lc_vec3 l = v3_sub(light, h.p);
-                lc_ray sr = mkray(spawn_origin(&h, l), v3_norm(l));
+                ray sr = mkray(spawn_origin(&h, l), v3_norm(l));
                 double dist = v3_len(v3_sub(light, sr.o));
-                if (!scene_occluded(sc, &sr, dist * (1 - 1e-9)))
+                if (!intersect_occluded(sc, &sr, dist * (1 - 1e-9), NULL))
                     leaks++;
             }
             lc_scene_free(sc);
@@ -734,13 +734,13 @@ static void oblikovati_diagonal(void **state)
     (void)state;
     double tri_v[] = {-5, -5, 0, 5, -5, 0, 5, 5, 0, -5, 5, 0};
     uint32_t tri_f[] = {0, 1, 2, 0, 2, 3};
-    lc_ray r = mkray(v3(0, 0, 10), v3_norm(v3(0.30458447, 0.30458447, -0.9024725)));
-    tri_shear sh;
-    tri_shear_init(r.d, &sh);
-    lc_hit h;
+    ray r = mkray(v3(0, 0, 10), v3_norm(v3(0.30458447, 0.30458447, -0.9024725)));
+    triangle_shear sh;
+    triangle_shear_init(r.d, &sh);
+    hit h;
     double bary[3];
-    int a = tri_hit(tri_v + 0, tri_v + 3, tri_v + 6, &r, &sh, 0, HUGE_VAL, &h, bary);
-    int b = tri_hit(tri_v + 0, tri_v + 6, tri_v + 9, &r, &sh, 0, HUGE_VAL, &h, bary);
+    int a = triangle_hit(tri_v + 0, tri_v + 3, tri_v + 6, &r, &sh, 0, HUGE_VAL, &h, bary);
+    int b = triangle_hit(tri_v + 0, tri_v + 6, tri_v + 9, &r, &sh, 0, HUGE_VAL, &h, bary);
     print_message("Oblikovati ray: first triangle %s, second %s\n", a ? "hit" : "miss",
                   b ? "hit" : "miss");
     assert_true(a || b);
@@ -752,7 +752,7 @@ static void oblikovati_diagonal(void **state)
     assert_int_equal(lc_mesh_add_faces(m, tri_f, 2, &err), LC_OK);
     assert_true(lc_scene_add_mesh(sc, m, mat, &err) >= 0);
     compile(sc);
-    assert_true(scene_closest(sc, &r, HUGE_VAL, &h));
+    assert_true(intersect_closest(sc, &r, HUGE_VAL, &h, NULL));
     if (!(fabs(h.p.x - 3.375) < 1e-6 && fabs(h.p.y - 3.375) < 1e-6 && h.p.z == 0))
         fail_msg("hit at (%.17g, %.17g, %.17g)", h.p.x, h.p.y, h.p.z);
     /* Every ray aimed at a point of the diagonal, from anywhere above or
@@ -782,9 +782,9 @@ static void oblikovati_diagonal(void **state)
             if (fabs(dir.z) < 0.05)
                 dir.z = 0.05;
             lc_vec3 o = v3_madd(to, dir, 10 * (0.2 + lcg(&seed)));
-            lc_ray ray = mkray(o, v3_norm(v3_sub(to, o)));
+            ray aim = mkray(o, v3_norm(v3_sub(to, o)));
             total++;
-            if (!scene_closest(s2, &ray, HUGE_VAL, &h))
+            if (!intersect_closest(s2, &aim, HUGE_VAL, &h, NULL))
                 missed++;
         }
         lc_scene_free(s2);
@@ -809,26 +809,26 @@ static void tiny_sphere_is_invisible(void **state)
     lc_shape wall = {LC_PLANE, {0, 0, 5}, {0, 0, -1}, {0, 0, 0}, {0, 0, 0}, 0};
     add_shape(sc, wall, mat);
     compile(sc);
-    lc_ray r = mkray(v3(0, 0, -3), v3(0, 0, 1));
+    ray r = mkray(v3(0, 0, -3), v3(0, 0, 1));
     sphere_geom g = *(const sphere_geom *)shape_at(&sc->shapes[LC_SPHERE], 0);
-    lc_hit h;
+    hit h;
     double t = sphere_t(&g, &r, 0, HUGE_VAL);
     int full = sphere_hit(&g, &r, 0, HUGE_VAL, &h);
-    int hit = scene_closest(sc, &r, HUGE_VAL, &h);
-    int blocked = scene_occluded(sc, &r, 7.9);
-    print_message("tiny sphere: sphere_t %g, sphere_hit %d, scene_closest %s, "
-                  "scene_occluded before the wall %d\n", t, full,
-                  !hit ? "nothing"
+    int found = intersect_closest(sc, &r, HUGE_VAL, &h, NULL);
+    int blocked = intersect_occluded(sc, &r, 7.9, NULL);
+    print_message("tiny sphere: sphere_t %g, sphere_hit %d, intersect_closest %s, "
+                  "intersect_occluded before the wall %d\n", t, full,
+                  !found ? "nothing"
                        : PRIM_KIND(h.shape) == PRIM_PLANE ? "the wall" : "it",
                   blocked);
     lc_scene_free(sc);
     /* the distance test and the full test must agree, the wall behind must
     ** be found, and nothing stops a ray before the wall */
-    if ((t > 0) != full || !hit || PRIM_KIND(h.shape) != PRIM_PLANE || blocked)
+    if ((t > 0) != full || !found || PRIM_KIND(h.shape) != PRIM_PLANE || blocked)
         fail_msg("through the centre of a sphere of radius 1e-300: sphere_t gives %g "
                  "but sphere_hit %s; scene_closest %s; scene_occluded says %s", t,
                  full ? "hits" : "misses",
-                 !hit ? "finds nothing (the wall behind is lost)"
+                 !found ? "finds nothing (the wall behind is lost)"
                       : PRIM_KIND(h.shape) == PRIM_PLANE ? "finds the wall" : "finds it",
                  blocked ? "blocked" : "clear");
 }

@@ -360,7 +360,7 @@ static void instance_spawns_never_self_hit(void **state)
             lc_mesh *m = uvs_mesh(&u, NULL);
             assert_true(lc_scene_add_mesh_moved(sc, m, &t, mi, &err) >= 0);
             lc_mesh_free(m);
-            assert_int_equal(scene_compile(sc, NULL, &err), LC_OK);
+            assert_int_equal(compile_scene(sc, NULL, &err), LC_OK);
             for (int k = 0; k < 400; k++) {
                 const uint32_t *f = u.f + 3 * (k % u.nf);
                 lc_vec3 p[3];
@@ -375,9 +375,9 @@ static void instance_spawns_never_self_hit(void **state)
                 if (flat < 1)          /* face on: the flat sides' normals */
                     o = v3_madd(to, v3_norm(lc_transform_vector(&t, v3(0, 1, 0))),
                                 (k % 2 ? 3 : -3) * s);
-                lc_ray cam = {o, v3_norm(v3_sub(to, o))};
-                lc_hit h;
-                if (!scene_closest(sc, &cam, HUGE_VAL, &h)) {
+                ray cam = {o, v3_norm(v3_sub(to, o))};
+                hit h;
+                if (!intersect_closest(sc, &cam, HUGE_VAL, &h, NULL)) {
                     if (k % 3 == 2)    /* vertices and edges may be on the silhouette */
                         fail_msg("camera ray %d missed the instance at scale %g", k, s);
                     continue;
@@ -387,9 +387,9 @@ static void instance_spawns_never_self_hit(void **state)
                 /* out: at least 0.1 off the tangent plane, so no edge is grazed */
                 lc_vec3 w = rand_unit(&seed);
                 w = v3_norm(v3_madd(w, n, 1.1 - v3_dot(w, n)));
-                lc_ray sr = {spawn_origin(&h, w), w};
-                lc_hit h2;
-                if (scene_closest(sc, &sr, HUGE_VAL, &h2))
+                ray sr = {spawn_origin(&h, w), w};
+                hit h2;
+                if (intersect_closest(sc, &sr, HUGE_VAL, &h2, NULL))
                     out_hit++;
                 /* in: uniform, or within 1e-12..1e-1 rad of the tangent plane */
                 w = rand_unit(&seed);
@@ -401,7 +401,7 @@ static void instance_spawns_never_self_hit(void **state)
                     w = v3_madd(w, n, -2 * v3_dot(w, n));
                 sr.o = spawn_origin(&h, w);
                 sr.d = w;
-                if (!scene_closest(sc, &sr, HUGE_VAL, &h2))
+                if (!intersect_closest(sc, &sr, HUGE_VAL, &h2, NULL))
                     lost += k % 3 == 2;    /* at a vertex or an edge "in" may leave */
                 else if (h2.shape == h.shape)
                     self++;

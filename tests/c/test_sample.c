@@ -14,7 +14,7 @@
 
 static pixel_sampler sampler(lc_sampler kind, int k)
 {
-    return pixel_sampler_init(kind, 1234 + (uint64_t)k * 7919, (uint32_t)k, (uint64_t)k * 131);
+    return sample_pixel(kind, 1234 + (uint64_t)k * 7919, (uint32_t)k, (uint64_t)k * 131);
 }
 
 /* Every elementary interval of area 2^-m (2^a x 2^(m-a) cells) holds
@@ -99,14 +99,14 @@ static void points_depend_on_every_key(void **state)
     (void)state;
     for (int kind = LC_SAMPLER_SOBOL; kind <= LC_SAMPLER_RANDOM; kind++) {
         double a[2], b[2];
-        pixel_sampler p0 = pixel_sampler_init((lc_sampler)kind, 7, 3, 99);
-        pixel_sampler p1 = pixel_sampler_init((lc_sampler)kind, 7, 3, 99);
+        pixel_sampler p0 = sample_pixel((lc_sampler)kind, 7, 3, 99);
+        pixel_sampler p1 = sample_pixel((lc_sampler)kind, 7, 3, 99);
         sample_2d(&p0, sample_dim(DIM_LIGHT, 1, 2), 5, 16, a);
         sample_2d(&p1, sample_dim(DIM_LIGHT, 1, 2), 5, 16, b);
         assert_true(a[0] == b[0] && a[1] == b[1]);
-        pixel_sampler other[3] = {pixel_sampler_init((lc_sampler)kind, 8, 3, 99),
-                                  pixel_sampler_init((lc_sampler)kind, 7, 4, 99),
-                                  pixel_sampler_init((lc_sampler)kind, 7, 3, 100)};
+        pixel_sampler other[3] = {sample_pixel((lc_sampler)kind, 8, 3, 99),
+                                  sample_pixel((lc_sampler)kind, 7, 4, 99),
+                                  sample_pixel((lc_sampler)kind, 7, 3, 100)};
         for (int i = 0; i < 3; i++) {
             sample_2d(&other[i], sample_dim(DIM_LIGHT, 1, 2), 5, 16, b);
             assert_true(a[0] != b[0] || a[1] != b[1]);
@@ -128,7 +128,7 @@ static void dimensions_do_not_correlate(void **state)
         double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
         int n = 0;
         for (uint64_t px = 0; px < 4096; px++) {
-            pixel_sampler ps = pixel_sampler_init((lc_sampler)kind, 1, 0, px);
+            pixel_sampler ps = sample_pixel((lc_sampler)kind, 1, 0, px);
             for (uint32_t i = 0; i < 16; i++) {
                 double a[2], b[2];
                 sample_2d(&ps, sample_dim(DIM_PIXEL, 0, 0), i, 16, a);
@@ -164,9 +164,9 @@ static void sobol1_matches_direction_numbers(void **state)
 static void nested_counts_saturate(void **state)
 {
     (void)state;
-    assert_int_equal(nested_count(16, 16), 256);
-    assert_int_equal(nested_count(1u << 20, 4096), 1u << 31);
-    assert_int_equal(nested_count(1, 1), 1);
+    assert_int_equal(sample_nested_count(16, 16), 256);
+    assert_int_equal(sample_nested_count(1u << 20, 4096), 1u << 31);
+    assert_int_equal(sample_nested_count(1, 1), 1);
 }
 
 int main(void)
