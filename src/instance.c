@@ -347,22 +347,33 @@ static inline double closest_face(void *ctx, uint32_t k, double tmax)
     return tmax;
 }
 
-double instance_hit(const lc_scene *s, uint32_t i, const ray *r, double tmax,
-                    hit *h, bvh_counts *counts)
+/* Sets up a search of instance i for ray r; 0 when its mesh has no face. */
+static int search_begin(const lc_scene *s, uint32_t i, const ray *r, object_ray *q,
+                        face_search *c, hit *h, hit *tmp)
 {
     const mesh_prim *mp = &s->meshes[i];
     const mesh_bvh *mb = &s->blas[mp->blas];
     if (!mb->bvh.nnodes)
         return 0;
+    object_ray_init(q, mp->xf, r);
+    face_search init = {mp->mesh, mb, q, 0, 0, h, tmp, 0};
+    *c = init;
+    return 1;
+}
+
+double instance_hit(const lc_scene *s, uint32_t i, const ray *r, double tmax,
+                    hit *h, bvh_counts *counts)
+{
     object_ray q;
-    object_ray_init(&q, mp->xf, r);
+    face_search c;
     hit tmp;
-    face_search c = {mp->mesh, mb, &q, 0, 0, h, &tmp, 0};
-    counts->nodes += bvh_closest(&mb->bvh, &q.b, tmax, &c, closest_face);
+    if (!search_begin(s, i, r, &q, &c, h, &tmp))
+        return 0;
+    counts->nodes += bvh_closest(&c.mb->bvh, &q.b, tmax, &c, closest_face);
     counts->prims += c.np;
     if (c.best == 0)
         return 0;
-    to_world(mp, mb, c.best_k, h);
+    to_world(&s->meshes[i], c.mb, c.best_k, h);
     h->instance = i + 1;
     return c.best;
 }
@@ -377,15 +388,12 @@ static inline int any_face(void *ctx, uint32_t k, double tmax)
 int instance_occluded(const lc_scene *s, uint32_t i, const ray *r, double tmax,
                       bvh_counts *counts)
 {
-    const mesh_prim *mp = &s->meshes[i];
-    const mesh_bvh *mb = &s->blas[mp->blas];
-    if (!mb->bvh.nnodes)
-        return 0;
     object_ray q;
-    object_ray_init(&q, mp->xf, r);
+    face_search c;
     hit tmp;
-    face_search c = {mp->mesh, mb, &q, 0, 0, NULL, &tmp, 0};
-    int found = bvh_any(&mb->bvh, &q.b, tmax, &c, any_face, &counts->nodes);
+    if (!search_begin(s, i, r, &q, &c, NULL, &tmp))
+        return 0;
+    int found = bvh_any(&c.mb->bvh, &q.b, tmax, &c, any_face, &counts->nodes);
     counts->prims += c.np;
     return found;
 }

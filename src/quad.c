@@ -34,16 +34,11 @@ void quad_describe(const quad_geom *g, lc_shape *s)
     s->v = g->v;
 }
 
-/* Exact under any affine map: the corner is a point, the edges vectors. */
 lc_status quad_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
                          lc_error *err)
 {
     (void)err;
-    *out = *s;
-    out->p = lc_transform_point(t, s->p);
-    out->u = lc_transform_vector(t, s->u);
-    out->v = lc_transform_vector(t, s->v);
-    out->w = lc_transform_vector(t, s->w);
+    shape_move_edges(t, s, out);
     return LC_OK;
 }
 

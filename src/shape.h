@@ -43,6 +43,17 @@ typedef struct {
                            ** so that the light adds emission k cos */
 } light_sample;
 
+/* Quads and boxes move exactly under any affine map: the corner is a point,
+** the edges (u, v, w; zero where unused) vectors. */
+static inline void shape_move_edges(const lc_transform *t, const lc_shape *s, lc_shape *out)
+{
+    *out = *s;
+    out->p = lc_transform_point(t, s->p);
+    out->u = lc_transform_vector(t, s->u);
+    out->v = lc_transform_vector(t, s->v);
+    out->w = lc_transform_vector(t, s->w);
+}
+
 /* ---- sphere.c ------------------------------------------------------------------- */
 
 typedef struct {
