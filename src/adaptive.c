@@ -4,6 +4,7 @@
 #include <string.h>
 #include "adaptive.h"
 #include "error.h"
+#include "mem.h"
 
 lc_status adaptive_init(adaptive *a, const lc_render_options *o, lc_error *err)
 {
@@ -11,9 +12,9 @@ lc_status adaptive_init(adaptive *a, const lc_render_options *o, lc_error *err)
     size_t np = (size_t)o->width * (size_t)o->height;
     a->width = o->width;
     a->height = o->height;
-    a->sum = calloc(np, 6 * sizeof *a->sum);
-    a->n = calloc(np, sizeof *a->n);
-    a->active = malloc(np);
+    a->sum = mem_calloc(np, 6 * sizeof *a->sum);
+    a->n = mem_calloc(np, sizeof *a->n);
+    a->active = mem_alloc(np);
     if (!a->sum || !a->n || !a->active) {
         adaptive_free(a);
         return error_fail(err, LC_ENOMEM, NULL, "out of memory for adaptive sampling of "
@@ -31,9 +32,9 @@ lc_status adaptive_init(adaptive *a, const lc_render_options *o, lc_error *err)
 
 void adaptive_free(adaptive *a)
 {
-    free(a->sum);
-    free(a->n);
-    free(a->active);
+    mem_free(a->sum);
+    mem_free(a->n);
+    mem_free(a->active);
     memset(a, 0, sizeof *a);
 }
 

@@ -8,8 +8,8 @@
 
 lc_status box_check(const lc_shape *s, lc_error *err)
 {
-    if (validate_vec(s->p, "corner", err) || validate_nonzero(s->u, "u", err) ||
-        validate_nonzero(s->v, "v", err) || validate_nonzero(s->w, "w", err) ||
+    if (validate_vec(s->p, "corner", err) || validate_edge(s->u, "u", err) ||
+        validate_edge(s->v, "v", err) || validate_edge(s->w, "w", err) ||
         validate_not_parallel(s->u, s->v, "u", "v", err) ||
         validate_not_parallel(s->v, s->w, "v", "w", err) ||
         validate_not_parallel(s->u, s->w, "u", "w", err))

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "bvh.h"
 #include "error.h"
+#include "mem.h"
 
 #define BINS 16
 #define MIN_LEAF 4        /* fewer is always a leaf: nodes cost memory too */
@@ -93,7 +94,7 @@ static uint32_t new_node(builder *bd)
     bvh *b = bd->b;
     if (b->nnodes == bd->cap) {
         size_t nc = bd->cap + bd->cap / 2 + 64;
-        bvh_node *p = realloc(b->nodes, nc * sizeof *p);
+        bvh_node *p = mem_realloc(b->nodes, nc * sizeof *p);
         if (!p) {
             bd->failed = 1;
             return 0;
@@ -272,17 +273,17 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, lc_error *err)
 {
     memset(b, 0, sizeof *b);
     if (n == 0) {
-        free(items);
+        mem_free(items);
         return LC_OK;
     }
     if (n > 0xffffffffu) {
-        free(items);
+        mem_free(items);
         return error_fail(err, LC_EARG, NULL, "too many primitives: %zu", n);
     }
     builder bd = {b, n / 3 + 64, items, 0};
-    b->nodes = malloc(bd.cap * sizeof *b->nodes);
+    b->nodes = mem_alloc(bd.cap * sizeof *b->nodes);
     if (!b->nodes) {
-        free(items);
+        mem_free(items);
         return error_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
                        "primitives", n);
     }
@@ -336,7 +337,7 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, lc_error *err)
         right.end = n;
         measure(&bd, 0, mid, &lb, &lcb);
         measure(&bd, mid, n, &right.bounds, &right.cb);
-        rb.nodes = malloc(right.bd.cap * sizeof *rb.nodes);
+        rb.nodes = mem_alloc(right.bd.cap * sizeof *rb.nodes);
         pthread_t th;
         int threaded = rb.nodes && pthread_create(&th, NULL, build_job, &right) == 0;
         if (rb.nodes && !threaded)
@@ -351,7 +352,7 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, lc_error *err)
         } else {
             /* Append the right half; its interior nodes point within it. */
             size_t off = b->nnodes;
-            bvh_node *p = realloc(b->nodes, (off + rb.nnodes) * sizeof *p);
+            bvh_node *p = mem_realloc(b->nodes, (off + rb.nnodes) * sizeof *p);
             if (!p) {
                 bd.failed = 1;
             } else {
@@ -370,10 +371,10 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, lc_error *err)
                 root->axis = (uint16_t)axis;
             }
         }
-        free(rb.nodes);
+        mem_free(rb.nodes);
     }
     if (bd.failed) {
-        free(items);
+        mem_free(items);
         bvh_free(b);
         return error_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
                        "primitives", n);
@@ -384,10 +385,10 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, lc_error *err)
         uint32_t id = items[i].id;
         refs[i] = id;
     }
-    uint32_t *fit = realloc(refs, n * sizeof *fit);
+    uint32_t *fit = mem_realloc(refs, n * sizeof *fit);
     b->refs = fit ? fit : refs;
     b->nrefs = n;
-    bvh_node *nfit = realloc(b->nodes, b->nnodes * sizeof *nfit);
+    bvh_node *nfit = mem_realloc(b->nodes, b->nnodes * sizeof *nfit);
     if (nfit)
         b->nodes = nfit;
     return LC_OK;
@@ -395,7 +396,7 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, lc_error *err)
 
 void bvh_free(bvh *b)
 {
-    free(b->nodes);
-    free(b->refs);
+    mem_free(b->nodes);
+    mem_free(b->refs);
     memset(b, 0, sizeof *b);
 }

@@ -8,11 +8,12 @@
 #include "scene.h"
 #include "clock.h"
 #include "camera.h"
+#include "mem.h"
 
 void compile_free(compiled *c)
 {
-    free(c->plan);
-    free(c->tris);
+    mem_free(c->plan);
+    mem_free(c->tris);
     bvh_free(&c->bvh);
     memset(c, 0, sizeof *c);
 }
@@ -29,7 +30,7 @@ static lc_status list_triangles(lc_scene *s, lc_error *err)
     if (total > PRIM_MAX)
         return error_fail(err, LC_EARG, NULL, "too many triangles: %zu (at most %zu)", total,
                        PRIM_MAX);
-    c->tris = malloc((total + 1) * sizeof *c->tris);
+    c->tris = mem_alloc((total + 1) * sizeof *c->tris);
     if (!c->tris)
         return error_fail(err, LC_ENOMEM, NULL, "out of memory listing %zu triangles", total);
     for (size_t i = 0; i < s->nmeshes; i++) {
@@ -57,7 +58,7 @@ static lc_status build_bvh(lc_scene *s, lc_error *err)
     for (int k = 0; k < LC_SHAPE_KINDS; k++)
         if (shape_bounded((lc_shape_kind)k))
             n += s->shapes[k].n;
-    bvh_item *items = malloc((n + 1) * sizeof *items);
+    bvh_item *items = mem_alloc((n + 1) * sizeof *items);
     if (!items)
         return error_fail(err, LC_ENOMEM, NULL, "out of memory bounding %zu primitives", n);
     bvh_item *it = items;
@@ -117,8 +118,8 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     lc_render_options def = lc_render_options_default();
     if (!o)
         o = &def;
-    free(c->plan);
-    c->plan = calloc(s->nmaterials + 1, 1);
+    mem_free(c->plan);
+    c->plan = mem_calloc(s->nmaterials + 1, 1);
     if (!c->plan)
         return error_fail(err, LC_ENOMEM, NULL, "out of memory planning %zu materials",
                        s->nmaterials);

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include "error.h"
 #include "image.h"
+#include "mem.h"
 
 lc_image *lc_image_new(int width, int height, lc_error *err)
 {
@@ -18,11 +19,11 @@ lc_image *lc_image_new(int width, int height, lc_error *err)
                 width, height, LC_MAX_PIXELS);
         return NULL;
     }
-    lc_image *img = malloc(sizeof *img);
-    float *px = calloc(n * 3, sizeof *px);
+    lc_image *img = mem_alloc(sizeof *img);
+    float *px = mem_calloc(n * 3, sizeof *px);
     if (!img || !px) {
-        free(img);
-        free(px);
+        mem_free(img);
+        mem_free(px);
         error_fail(err, LC_ENOMEM, NULL, "out of memory for a %dx%d image", width, height);
         return NULL;
     }
@@ -37,8 +38,8 @@ void lc_image_free(lc_image *img)
 {
     if (!img)
         return;
-    free(img->px);
-    free(img);
+    mem_free(img->px);
+    mem_free(img);
 }
 
 int lc_image_width(const lc_image *img) { return img->width; }

@@ -3,6 +3,7 @@
 #include <string.h>
 #include "error.h"
 #include "scene.h"
+#include "mem.h"
 
 /* |a| |b| for 3x3 blocks of transforms. */
 static void abs_product(const lc_transform *a, const lc_transform *b, double out[3][3])
@@ -87,7 +88,7 @@ static void face_vertices(const lc_mesh *m, size_t f, const double *v[3])
 static void blas_clear(mesh_bvh *mb)
 {
     bvh_free(&mb->bvh);
-    free(mb->face);
+    mem_free(mb->face);
     mb->face = NULL;
     mb->nface = mb->degenerate = 0;
 }
@@ -99,10 +100,10 @@ static lc_status blas_build(mesh_bvh *mb, lc_error *err)
     blas_clear(mb);
     mb->faces = m->nf;
     bvh_bounds_empty(mb->lo, mb->hi);
-    mb->face = malloc((m->nf + 1) * sizeof *mb->face);
-    bvh_item *items = malloc((m->nf + 1) * sizeof *items);
+    mb->face = mem_alloc((m->nf + 1) * sizeof *mb->face);
+    bvh_item *items = mem_alloc((m->nf + 1) * sizeof *items);
     if (!mb->face || !items) {
-        free(items);
+        mem_free(items);
         blas_clear(mb);
         return error_fail(err, LC_ENOMEM, NULL, "out of memory bounding a mesh of %zu faces",
                        m->nf);
@@ -145,7 +146,7 @@ void instance_free_all(lc_scene *s)
         blas_clear(&s->blas[i]);
         lc_mesh_free(s->blas[i].mesh);
     }
-    free(s->blas);
+    mem_free(s->blas);
     s->blas = NULL;
     s->nblas = s->capblas = 0;
 }
@@ -180,7 +181,7 @@ lc_status instance_compile(lc_scene *s, lc_error *err)
         if (!mb) {
             if (s->nblas == s->capblas) {
                 size_t nc = s->capblas ? 2 * s->capblas : 8;
-                mesh_bvh *p = realloc(s->blas, nc * sizeof *p);
+                mesh_bvh *p = mem_realloc(s->blas, nc * sizeof *p);
                 if (!p)
                     return error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh BVH");
                 s->blas = p;

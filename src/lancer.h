@@ -19,9 +19,25 @@ typedef struct {
     char msg[256];
 } lc_error;
 
+/* ---- Memory ---------------------------------------------------------------- */
+
+/* Caps the memory the core allocates (scenes, meshes, BVHs, images), in
+** bytes, for the whole process; 0 (the default) is no cap. What would pass
+** it fails as LC_ENOMEM, saying so. Returns the previous cap. */
+size_t lc_memory_cap(size_t bytes);
+size_t lc_memory_used(void);             /* bytes the core holds now */
+
 /* ---- Values ---------------------------------------------------------------- */
 
 typedef struct { double x, y, z; } lc_vec3;   /* geometry is double throughout */
+
+/* The coordinate range: geometry is exact (no square of a square over- or
+** underflows) when every coordinate (centres, corners, points, vertices,
+** positions) lies within +-LC_MAX_COORD and every length (radii, edges,
+** aperture, focus) in [LC_MIN_LENGTH, LC_MAX_COORD]; what lies outside is
+** refused, naming the field. */
+#define LC_MAX_COORD  1e30
+#define LC_MIN_LENGTH 1e-30
 typedef struct { float r, g, b; } lc_color;    /* linear RGB */
 
 /* ---- Materials ------------------------------------------------------------- */

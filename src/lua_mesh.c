@@ -208,10 +208,18 @@ static int w_triangle(lua_State *L)
     lc_vec3 c = lf_vec3(L, 1, "c", 1, z);
     lf_udata(L, 1, "material", MATERIAL, 0);
     lc_mesh *m = push_mesh(L, -1);
-    double v[9] = {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
-    uint32_t f[3] = {0, 1, 2};
+    const lc_vec3 *corner[3] = {&a, &b, &c};
+    static const char *const names[3] = {"a", "b", "c"};
     lc_error err;
-    if (lc_mesh_add_vertices(m, v, 3, &err) || lc_mesh_add_faces(m, f, 1, &err))
+    for (int k = 0; k < 3; k++) {       /* one by one, to name the one at fault */
+        double v[3] = {corner[k]->x, corner[k]->y, corner[k]->z};
+        if (lc_mesh_add_vertices(m, v, 1, &err)) {
+            const char *why = strstr(err.msg, ": ");   /* past "vertices N: " */
+            return lf_error(L, 1, names[k], "%s", why ? why + 2 : err.msg);
+        }
+    }
+    uint32_t f[3] = {0, 1, 2};
+    if (lc_mesh_add_faces(m, f, 1, &err))
         return luaL_error(L, "%s", err.msg);
     return 1;
 }

@@ -4,12 +4,13 @@
 #include <string.h>
 #include "error.h"
 #include "scene.h"
+#include "mem.h"
 
 #define MAX_ELEMENTS ((size_t)1 << 29)   /* indices and ids stay within 32 bits */
 
 lc_mesh *lc_mesh_new(lc_error *err)
 {
-    lc_mesh *m = calloc(1, sizeof *m);
+    lc_mesh *m = mem_calloc(1, sizeof *m);
     if (!m) {
         error_fail(err, LC_ENOMEM, NULL, "out of memory creating a mesh");
         return NULL;
@@ -29,10 +30,10 @@ void lc_mesh_free(lc_mesh *m)
 {
     if (!m || --m->refs > 0)
         return;
-    free(m->v);
-    free(m->n);
-    free(m->f);
-    free(m);
+    mem_free(m->v);
+    mem_free(m->n);
+    mem_free(m->f);
+    mem_free(m);
 }
 
 /* Makes room for `more` items of `width` elements of `size` bytes. */
@@ -45,7 +46,7 @@ static int reserve(void **arr, size_t *cap, size_t n, size_t more, size_t width,
     size_t nc = *cap ? *cap : 64;
     while (nc < n + more)
         nc *= 2;
-    void *p = realloc(*arr, nc * width * size);
+    void *p = mem_realloc(*arr, nc * width * size);
     if (!p)
         return 0;
     *arr = p;
@@ -56,16 +57,22 @@ static int reserve(void **arr, size_t *cap, size_t n, size_t more, size_t width,
 static lc_status add_points(lc_mesh *m, double **arr, size_t *n, size_t *cap,
                             const double *xyz, size_t count, const char *what, lc_error *err)
 {
-    for (size_t i = 0; i < 3 * count; i++)
+    if (count == 0)                      /* nothing to copy, maybe from NULL */
+        return error_ok(err), LC_OK;
+    for (size_t i = 0; i < 3 * count; i++) {
         if (!isfinite(xyz[i]))
             return error_fail(err, LC_EARG, what, "%s %zu: component %zu must be finite, got %g",
                            what, *n + i / 3 + 1, i % 3 + 1, xyz[i]);
+        if (arr == &m->v && !(fabs(xyz[i]) <= LC_MAX_COORD))
+            return error_fail(err, LC_EARG, what, "%s %zu: component %zu must be within "
+                              "+-%g (lancer's coordinate range), got %g", what,
+                              *n + i / 3 + 1, i % 3 + 1, LC_MAX_COORD, xyz[i]);
+    }
     if (!reserve((void **)arr, cap, *n, count, 3, sizeof **arr))
         return error_fail(err, LC_ENOMEM, NULL, "out of memory: mesh of %zu %s", *n + count,
                        what);
     memcpy(*arr + 3 * *n, xyz, 3 * count * sizeof **arr);
     *n += count;
-    (void)m;
     error_ok(err);
     return LC_OK;
 }
@@ -86,6 +93,8 @@ lc_status lc_mesh_add_normals(lc_mesh *m, const double *xyz, size_t n, lc_error 
 
 lc_status lc_mesh_add_faces(lc_mesh *m, const uint32_t *abc, size_t n, lc_error *err)
 {
+    if (n == 0)
+        return error_ok(err), LC_OK;
     for (size_t i = 0; i < 3 * n; i++)
         if (abc[i] >= m->nv)
             return error_fail(err, LC_EARG, "faces", "face %zu: vertex index %lu is past the "

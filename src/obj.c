@@ -6,6 +6,7 @@
 #include <string.h>
 #include "error.h"
 #include "mesh.h"
+#include "mem.h"
 
 typedef struct { double *a; size_t n, cap; } dbuf;      /* 3 per item */
 typedef struct { long *a; size_t n, cap; } lbuf;        /* 2 per corner: v, vn */
@@ -14,7 +15,7 @@ static int dpush(dbuf *b, const double x[3])
 {
     if (b->n == b->cap) {
         size_t nc = b->cap ? b->cap * 2 : 1024;
-        double *p = realloc(b->a, nc * 3 * sizeof *p);
+        double *p = mem_realloc(b->a, nc * 3 * sizeof *p);
         if (!p)
             return 0;
         b->a = p;
@@ -28,7 +29,7 @@ static int lpush(lbuf *b, long v, long vn)
 {
     if (b->n == b->cap) {
         size_t nc = b->cap ? b->cap * 2 : 1024;
-        long *p = realloc(b->a, nc * 2 * sizeof *p);
+        long *p = mem_realloc(b->a, nc * 2 * sizeof *p);
         if (!p)
             return 0;
         b->a = p;
@@ -54,14 +55,55 @@ static int numbers(char *s, double x[3])
     return 1;
 }
 
-/* OBJ indices start at 1; negative ones count back from the latest. */
+/* OBJ indices start at 1; negative ones count back from the latest. -(i + 1)
+** cannot overflow, even for LONG_MIN. */
 static long resolve(long i, size_t count)
 {
     if (i > 0)
-        return (size_t)i <= count ? i - 1 : -1;
+        return (unsigned long)i <= count ? i - 1 : -1;
     if (i < 0)
-        return (size_t)-i <= count ? (long)count + i : -1;
+        return (unsigned long)-(i + 1) < count ? (long)count + i : -1;
     return -1;
+}
+
+/* A line longer than this is no OBJ line: the reader stops there, rather
+** than growing its buffer without end on a file with no newline. */
+#define OBJ_MAX_LINE (1 << 20)
+
+enum { LINE_OK, LINE_EOF, LINE_LONG, LINE_NUL, LINE_NOMEM, LINE_ERROR };
+
+/* Reads one line (its newline dropped) into *buf, grown as needed. */
+static int read_line(FILE *fp, char **buf, size_t *cap)
+{
+    size_t n = 0;
+    int c;
+    while ((c = getc_unlocked(fp)) != EOF && c != '\n') {
+        if (c == '\0')
+            return LINE_NUL;
+        if (n + 1 >= *cap) {
+            if (*cap > OBJ_MAX_LINE)
+                return LINE_LONG;
+            size_t nc = *cap ? 2 * *cap : 256;
+            char *p = mem_realloc(*buf, nc);
+            if (!p)
+                return LINE_NOMEM;
+            *buf = p;
+            *cap = nc;
+        }
+        (*buf)[n++] = (char)c;
+    }
+    if (c == EOF && ferror(fp))
+        return LINE_ERROR;
+    if (c == EOF && n == 0)
+        return LINE_EOF;
+    if (!*buf) {                         /* an empty last line before anything */
+        *buf = mem_alloc(1);
+        if (!*buf)
+            return LINE_NOMEM;
+        *cap = 1;
+    }
+    (*buf)[n] = '\0';
+    return LINE_OK;
 }
 
 /* Parses one corner "v", "v/t", "v//n" or "v/t/n". */
@@ -117,9 +159,9 @@ static lc_status with_normals(lc_mesh *m, const dbuf *v, const dbuf *vn, const l
     size_t cap = 16;
     while (cap < 2 * c->n)
         cap *= 2;
-    long *key = malloc(cap * 2 * sizeof *key);
-    uint32_t *val = malloc(cap * sizeof *val);
-    uint32_t *tri = malloc(c->n * sizeof *tri);
+    long *key = mem_alloc(cap * 2 * sizeof *key);
+    uint32_t *val = mem_alloc(cap * sizeof *val);
+    uint32_t *tri = mem_alloc(c->n * sizeof *tri);
     lc_status st = LC_OK;
     if (!key || !val || !tri) {
         st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading a mesh");
@@ -145,9 +187,9 @@ static lc_status with_normals(lc_mesh *m, const dbuf *v, const dbuf *vn, const l
     if (st == LC_OK)
         st = lc_mesh_add_faces(m, tri, c->n / 3, err);
 done:
-    free(key);
-    free(val);
-    free(tri);
+    mem_free(key);
+    mem_free(val);
+    mem_free(tri);
     return st;
 }
 
@@ -162,11 +204,25 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
     lbuf c = {0};          /* triangle corners, 3 per triangle */
     int all_normals = 1;
     char *line = NULL;
-    size_t len = 0, lineno = 0;
+    size_t cap = 0, lineno = 0;
     lc_status st = LC_OK;
     lc_mesh *m = NULL;
-    while (st == LC_OK && getline(&line, &len, fp) != -1) {
+    int got;
+    while (st == LC_OK && (got = read_line(fp, &line, &cap)) != LINE_EOF) {
         lineno++;
+        if (got != LINE_OK) {
+            if (got == LINE_NOMEM)
+                st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at line "
+                                "%zu", path, lineno);
+            else if (got == LINE_ERROR)
+                st = error_fail(err, LC_EIO, "path", "cannot read '%s' at line %zu: %s",
+                                path, lineno, strerror(errno));
+            else
+                st = error_fail(err, LC_EARG, "path", "%s:%zu: %s: not an OBJ file", path,
+                                lineno, got == LINE_NUL ? "a NUL byte" :
+                                "a line longer than 1 MiB");
+            break;
+        }
         char *s = line + strspn(line, " \t");
         s[strcspn(s, "\r\n#")] = '\0';
         if (strncmp(s, "v ", 2) == 0 || strncmp(s, "v\t", 2) == 0 ||
@@ -177,7 +233,8 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
                 st = error_fail(err, LC_EARG, NULL, "%s:%zu: '%s' needs 3 finite numbers",
                              path, lineno, normal ? "vn" : "v");
             else if (!dpush(normal ? &vn : &v, x))
-                st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
+                st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at line "
+                                "%zu", path, lineno);
         } else if (strncmp(s, "f ", 2) == 0 || strncmp(s, "f\t", 2) == 0) {
             long first[2] = {0, 0}, prev[2] = {0, 0};
             int k = 0;
@@ -197,7 +254,8 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
                     memcpy(first, cur, sizeof cur);
                 if (k >= 2 && (!lpush(&c, first[0], first[1]) || !lpush(&c, prev[0], prev[1]) ||
                                !lpush(&c, cur[0], cur[1])))
-                    st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
+                    st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at "
+                                    "line %zu", path, lineno);
                 memcpy(prev, cur, sizeof cur);
             }
             if (st == LC_OK && k < 3)
@@ -206,9 +264,10 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
         }
         /* Anything else (vt, o, g, s, usemtl, mtllib, l, ...) is skipped. */
     }
-    if (st == LC_OK && ferror(fp))
-        st = error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path, strerror(errno));
-    free(line);
+    mem_free(line);
+    if (st == LC_OK && (v.n == 0 || c.n == 0))
+        st = error_fail(err, LC_EARG, "path", "'%s' has no %s: not an OBJ file, or an empty "
+                        "one", path, v.n == 0 ? "vertices ('v' lines)" : "faces ('f' lines)");
     fclose(fp);
     if (st == LC_OK && (m = lc_mesh_new(err)) == NULL)
         st = LC_ENOMEM;
@@ -216,7 +275,7 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
         if (all_normals && c.n > 0 && vn.n > 0) {
             st = with_normals(m, &v, &vn, &c, err);
         } else {
-            uint32_t *tri = malloc((c.n + 1) * sizeof *tri);
+            uint32_t *tri = mem_alloc((c.n + 1) * sizeof *tri);
             if (!tri)
                 st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
             for (size_t i = 0; st == LC_OK && i < c.n; i++)
@@ -225,12 +284,12 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
                 st = lc_mesh_add_vertices(m, v.a, v.n, err);
             if (st == LC_OK)
                 st = lc_mesh_add_faces(m, tri, c.n / 3, err);
-            free(tri);
+            mem_free(tri);
         }
     }
-    free(v.a);
-    free(vn.a);
-    free(c.a);
+    mem_free(v.a);
+    mem_free(vn.a);
+    mem_free(c.a);
     if (st != LC_OK) {
         lc_mesh_free(m);
         return NULL;

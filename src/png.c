@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include "error.h"
 #include "image.h"
+#include "mem.h"
 
 /* libpng reports errors by longjmp; the message is kept for lc_error. */
 typedef struct {
@@ -41,7 +42,7 @@ static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const
     unsigned char *volatile row = NULL;
     if (!info || setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, info ? &info : NULL);
-        free(row);
+        mem_free(row);
         return error_fail(err, LC_EIO, NULL, "cannot write '%s': %s", path,
                        fail.msg[0] ? fail.msg : "out of memory");
     }
@@ -58,7 +59,7 @@ static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const
     else
         png_set_gAMA(png, info, 1.0);   /* as POV-Ray and Tachyon do for linear output */
     png_write_info(png, info);
-    row = malloc((size_t)img->width * 3);
+    row = mem_alloc((size_t)img->width * 3);
     if (!row)
         png_error(png, "out of memory");
     for (int y = 0; y < img->height; y++) {
@@ -69,7 +70,7 @@ static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const
     }
     png_write_end(png, info);
     png_destroy_write_struct(&png, &info);
-    free(row);
+    mem_free(row);
     return LC_OK;
 }
 
@@ -82,7 +83,7 @@ lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding e
     size_t n = strlen(path);
     if (n == 0)
         return error_fail(err, LC_EARG, "path", "file name is empty");
-    char *tmp = malloc(n + 16);
+    char *tmp = mem_alloc(n + 16);
     if (!tmp)
         return error_fail(err, LC_ENOMEM, NULL, "out of memory writing '%s'", path);
     memcpy(tmp, path, n);
@@ -91,7 +92,7 @@ lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding e
     if (fd < 0) {
         lc_status st = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path,
                                strerror(errno));
-        free(tmp);
+        mem_free(tmp);
         return st;
     }
     FILE *fp = fdopen(fd, "wb");
@@ -100,7 +101,7 @@ lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding e
                                strerror(errno));
         close(fd);
         unlink(tmp);
-        free(tmp);
+        mem_free(tmp);
         return st;
     }
     lc_status st = write_png(fp, img, enc, path, err);
@@ -120,7 +121,7 @@ lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding e
         unlink(tmp);
     else
         error_ok(err);
-    free(tmp);
+    mem_free(tmp);
     return st;
 }
 
@@ -149,7 +150,7 @@ lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
     if (!png || !info || setjmp(png_jmpbuf(png))) {
         png_destroy_read_struct(png ? &png : NULL, info ? &info : NULL, NULL);
         fclose(fp);
-        free(row);
+        mem_free(row);
         lc_image_free(img);
         error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path,
                 fail.msg[0] ? fail.msg : "out of memory");
@@ -179,7 +180,7 @@ lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
     img = lc_image_new((int)w, (int)h, err);
     if (!img)
         png_error(png, "out of memory");
-    row = malloc(png_get_rowbytes(png, info));
+    row = mem_alloc(png_get_rowbytes(png, info));
     if (!row)
         png_error(png, "out of memory");
     for (png_uint_32 y = 0; y < h; y++) {
@@ -193,7 +194,7 @@ lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
     png_read_end(png, NULL);
     png_destroy_read_struct(&png, &info, NULL);
     fclose(fp);
-    free(row);
+    mem_free(row);
     error_ok(err);
     return img;
 }

@@ -6,8 +6,8 @@
 
 lc_status quad_check(const lc_shape *s, lc_error *err)
 {
-    if (validate_vec(s->p, "corner", err) || validate_nonzero(s->u, "u", err) ||
-        validate_nonzero(s->v, "v", err) || validate_not_parallel(s->u, s->v, "u", "v", err))
+    if (validate_vec(s->p, "corner", err) || validate_edge(s->u, "u", err) ||
+        validate_edge(s->v, "v", err) || validate_not_parallel(s->u, s->v, "u", "v", err))
         return LC_EARG;
     return LC_OK;
 }

@@ -12,6 +12,7 @@
 #include "rng.h"
 #include "shade.h"
 #include "clock.h"
+#include "mem.h"
 
 #define TILE 16
 
@@ -173,7 +174,7 @@ lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y
     camera_sample(&j, &t, x, y, (uint32_t)sample, (uint32_t)o->samples);
     explain_free(&log);
     if (log.failed) {
-        free(log.r);
+        free(log.r);               /* explain records are plain malloc: the caller frees */
         return error_fail(err, LC_ENOMEM, NULL, "out of memory recording the rays");
     }
     *records = log.r;
@@ -325,11 +326,11 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     if (nt > j.ntiles)
         nt = j.ntiles;
     adaptive ad;
-    worker *ws = calloc((size_t)nt, sizeof *ws);
+    worker *ws = mem_calloc((size_t)nt, sizeof *ws);
     if (!ws)
         error_fail(err, LC_ENOMEM, NULL, "out of memory starting %d threads", nt);
     if (!ws || (o->noise > 0 && adaptive_init(&ad, o, err))) {
-        free(ws);
+        mem_free(ws);
         lc_image_free(img);
         return NULL;
     }
@@ -380,7 +381,7 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     sum.threads = threads;
     warn(s, img, &sum);
     int cancelled = j.cancel;
-    free(ws);
+    mem_free(ws);
     pthread_mutex_destroy(&j.lock);
     pthread_cond_destroy(&j.tile_done);
     if (st)

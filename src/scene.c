@@ -3,6 +3,7 @@
 #include <string.h>
 #include "error.h"
 #include "scene.h"
+#include "mem.h"
 
 /* Makes room for one more element of `size` bytes in *arr. */
 static int grow(void **arr, size_t *cap, size_t n, size_t size)
@@ -12,7 +13,7 @@ static int grow(void **arr, size_t *cap, size_t n, size_t size)
     size_t nc = *cap ? *cap * 2 : 16;
     if (nc > ((size_t)-1) / size)
         return 0;
-    void *p = realloc(*arr, nc * size);
+    void *p = mem_realloc(*arr, nc * size);
     if (!p)
         return 0;
     *arr = p;
@@ -23,7 +24,7 @@ static int grow(void **arr, size_t *cap, size_t n, size_t size)
 
 lc_scene *lc_scene_new(lc_error *err)
 {
-    lc_scene *s = calloc(1, sizeof *s);
+    lc_scene *s = mem_calloc(1, sizeof *s);
     if (!s) {
         error_fail(err, LC_ENOMEM, NULL, "out of memory creating a scene");
         return NULL;
@@ -41,19 +42,19 @@ void lc_scene_free(lc_scene *s)
     instance_free_all(s);
     for (size_t i = 0; i < s->nmeshes; i++) {
         lc_mesh_free(s->meshes[i].mesh);
-        free(s->meshes[i].xf);
+        mem_free(s->meshes[i].xf);
     }
-    free(s->light_ids);
-    free(s->materials);
+    mem_free(s->light_ids);
+    mem_free(s->materials);
     for (int k = 0; k < LC_SHAPE_KINDS; k++) {
-        free(s->shapes[k].geom);
-        free(s->shapes[k].material);
-        free(s->shapes[k].id);
+        mem_free(s->shapes[k].geom);
+        mem_free(s->shapes[k].material);
+        mem_free(s->shapes[k].id);
     }
-    free(s->meshes);
-    free(s->emitters);
-    free(s->lights);
-    free(s);
+    mem_free(s->meshes);
+    mem_free(s->emitters);
+    mem_free(s->lights);
+    mem_free(s);
 }
 
 lc_status lc_scene_configure(lc_scene *s, const lc_settings *st, lc_error *err)
@@ -123,13 +124,13 @@ static int shape_list_grow(shape_list *l)
     size_t nc = l->cap ? l->cap * 2 : 16;
     if (nc > PRIM_MAX || nc > ((size_t)-1) / l->size)
         return 0;
-    unsigned char *g = realloc(l->geom, nc * l->size);
+    unsigned char *g = mem_realloc(l->geom, nc * l->size);
     if (g)
         l->geom = g;
-    int *m = g ? realloc(l->material, nc * sizeof *m) : NULL;
+    int *m = g ? mem_realloc(l->material, nc * sizeof *m) : NULL;
     if (m)
         l->material = m;
-    int *id = m ? realloc(l->id, nc * sizeof *id) : NULL;
+    int *id = m ? mem_realloc(l->id, nc * sizeof *id) : NULL;
     if (!id)
         return 0;
     l->id = id;
@@ -171,18 +172,18 @@ int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *
 static int add_mesh(lc_scene *s, lc_mesh *m, instance_xf *xf, int material, lc_error *err)
 {
     if (!check_material(s, material, err)) {
-        free(xf);
+        mem_free(xf);
         return -1;
     }
     if (m->nn != 0 && m->nn != m->nv) {
         error_fail(err, LC_EARG, "normals", "mesh has %zu normals for %zu vertices", m->nn,
                 m->nv);
-        free(xf);
+        mem_free(xf);
         return -1;
     }
     if (s->nmeshes >= PRIM_MAX || !GROW(s, meshes)) {
         error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
-        free(xf);
+        mem_free(xf);
         return -1;
     }
     mesh_prim *mp = &s->meshes[s->nmeshes++];
@@ -208,13 +209,13 @@ int lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t, int 
         return -1;
     if (lc_transform_is_identity(t))
         return add_mesh(s, m, NULL, material, err);
-    instance_xf *xf = malloc(sizeof *xf);
+    instance_xf *xf = mem_alloc(sizeof *xf);
     if (!xf) {
         error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
         return -1;
     }
     if (instance_xf_make(t, xf, err)) {
-        free(xf);
+        mem_free(xf);
         return -1;
     }
     return add_mesh(s, m, xf, material, err);
@@ -230,7 +231,7 @@ int lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err)
         return -1;
     }
     if (s->caplights != cap || !s->light_ids) {     /* ids grow beside the lights */
-        int *ids = realloc(s->light_ids, s->caplights * sizeof *ids);
+        int *ids = mem_realloc(s->light_ids, s->caplights * sizeof *ids);
         if (!ids) {
             error_fail(err, LC_ENOMEM, NULL, "out of memory adding a light");
             return -1;

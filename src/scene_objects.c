@@ -3,6 +3,7 @@
 #include <string.h>
 #include "error.h"
 #include "scene.h"
+#include "mem.h"
 
 /* Ids grow with each add, and removal keeps the order, so every list is
 ** sorted by id: a binary search finds an object. Returns its index or -1. */
@@ -168,7 +169,7 @@ lc_status lc_scene_remove(lc_scene *s, int id, lc_error *err)
     case LC_OBJECT_MESH:
         i = find_mesh(s, id);
         lc_mesh_free(s->meshes[i].mesh);       /* the scene's hold; the cache has its own */
-        free(s->meshes[i].xf);
+        mem_free(s->meshes[i].xf);
         cut(s->meshes, &s->nmeshes, (size_t)i, sizeof *s->meshes);
         s->nshapes--;
         break;

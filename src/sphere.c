@@ -16,11 +16,7 @@ lc_status sphere_check(const lc_shape *s, lc_error *err)
 {
     if (validate_vec(s->p, "center", err))
         return LC_EARG;
-    if (!isfinite(s->radius))
-        return error_fail(err, LC_EARG, "radius", "must be finite, got %g", s->radius);
-    if (!(s->radius > 0))
-        return error_fail(err, LC_EARG, "radius", "must be > 0, got %g", s->radius);
-    return LC_OK;
+    return validate_length(s->radius, "radius", err);
 }
 
 void sphere_prepare(const lc_shape *s, sphere_geom *g)
@@ -151,8 +147,18 @@ int sphere_hit(const sphere_geom *s, const ray *r, double tmin, double tmax, hit
     ** gamma(5)|p_local| (pbrt-v4); adding the centre rounds once more. */
     lc_vec3 pl = v3_madd(f, r->d, t);
     double len = v3_len(pl);
-    if (!(len > 0))
-        return 0;
+    if (!(len > 0.5 * s->r)) {
+        /* f + t d cancelled: a sphere far smaller than its distance (down to
+        ** LC_MIN_LENGTH at 1e30). From the closest approach v instead, the
+        ** point is v -+ sqrt(disc) d, with no cancellation (H12). */
+        double b = v3_dot(f, r->d);
+        lc_vec3 v = v3_madd(f, r->d, -b);
+        double root = sqrt(fmax(0, s->r2 - v3_dot(v, v)));
+        pl = v3_madd(v, r->d, t < -b ? -root : root);
+        len = v3_len(pl);
+        if (!(len > 0))
+            return 0;
+    }
     lc_vec3 n = v3_mul(pl, 1.0 / len);
     pl = v3_mul(n, s->r);
     h->t = t;

@@ -34,7 +34,7 @@ int validate_finite3(lc_vec3 v)
     return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
 }
 
-lc_status validate_vec(lc_vec3 v, const char *field, lc_error *err)
+static lc_status check_finite(lc_vec3 v, const char *field, lc_error *err)
 {
     if (!validate_finite3(v))
         return error_fail(err, LC_EARG, field, "must be finite, got (%g, %g, %g)",
@@ -42,9 +42,42 @@ lc_status validate_vec(lc_vec3 v, const char *field, lc_error *err)
     return LC_OK;
 }
 
+lc_status validate_vec(lc_vec3 v, const char *field, lc_error *err)
+{
+    if (check_finite(v, field, err))
+        return LC_EARG;
+    if (!(v3_max_abs(v) <= LC_MAX_COORD))
+        return error_fail(err, LC_EARG, field, "must be within +-%g (lancer's coordinate "
+                          "range), got (%g, %g, %g)", LC_MAX_COORD, v.x, v.y, v.z);
+    return LC_OK;
+}
+
+lc_status validate_length(double x, const char *field, lc_error *err)
+{
+    if (!isfinite(x))
+        return error_fail(err, LC_EARG, field, "must be finite, got %g", x);
+    if (!(x > 0))
+        return error_fail(err, LC_EARG, field, "must be > 0, got %g", x);
+    if (!(x >= LC_MIN_LENGTH && x <= LC_MAX_COORD))
+        return error_fail(err, LC_EARG, field, "must be in [%g, %g] (lancer's coordinate "
+                          "range), got %g", LC_MIN_LENGTH, LC_MAX_COORD, x);
+    return LC_OK;
+}
+
+lc_status validate_edge(lc_vec3 v, const char *field, lc_error *err)
+{
+    if (validate_nonzero(v, field, err))
+        return LC_EARG;
+    double len = v3_len(v);
+    if (!(len >= LC_MIN_LENGTH && len <= LC_MAX_COORD))
+        return error_fail(err, LC_EARG, field, "length must be in [%g, %g] (lancer's "
+                          "coordinate range), got %g", LC_MIN_LENGTH, LC_MAX_COORD, len);
+    return LC_OK;
+}
+
 lc_status validate_nonzero(lc_vec3 v, const char *field, lc_error *err)
 {
-    if (validate_vec(v, field, err))
+    if (check_finite(v, field, err))
         return LC_EARG;
     if (v.x == 0 && v.y == 0 && v.z == 0)
         return error_fail(err, LC_EARG, field, "must not be zero-length");
@@ -135,8 +168,14 @@ lc_status lc_camera_check(const lc_camera *c, lc_error *err)
     if (!isfinite(c->aperture) || c->aperture < 0)
         return error_fail(err, LC_EARG, "aperture", "must be finite and >= 0, got %g",
                        c->aperture);
+    if (c->aperture > LC_MAX_COORD)
+        return error_fail(err, LC_EARG, "aperture", "must be at most %g (lancer's coordinate "
+                          "range), got %g", LC_MAX_COORD, c->aperture);
     if (!isfinite(c->focus) || c->focus < 0)
         return error_fail(err, LC_EARG, "focus", "must be finite and >= 0, got %g", c->focus);
+    if (c->focus > LC_MAX_COORD)
+        return error_fail(err, LC_EARG, "focus", "must be at most %g (lancer's coordinate "
+                          "range), got %g", LC_MAX_COORD, c->focus);
     error_ok(err);
     return LC_OK;
 }

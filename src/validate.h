@@ -11,8 +11,14 @@
 
 int       validate_finite3(lc_vec3 v);
 /* Each returns LC_OK, or fills err naming the field and the value. */
-lc_status validate_vec(lc_vec3 v, const char *field, lc_error *err);       /* finite */
-lc_status validate_nonzero(lc_vec3 v, const char *field, lc_error *err);   /* a direction */
+/* A point: finite, every coordinate within +-LC_MAX_COORD. */
+lc_status validate_vec(lc_vec3 v, const char *field, lc_error *err);
+/* A length (a radius): in [LC_MIN_LENGTH, LC_MAX_COORD]. */
+lc_status validate_length(double x, const char *field, lc_error *err);
+/* An edge: a vector whose length is one. */
+lc_status validate_edge(lc_vec3 v, const char *field, lc_error *err);
+/* A direction: finite, of a length that squares in double. */
+lc_status validate_nonzero(lc_vec3 v, const char *field, lc_error *err);
 lc_status validate_not_parallel(lc_vec3 a, lc_vec3 b, const char *fa, const char *fb,
                                 lc_error *err);
 

@@ -795,17 +795,23 @@ static void oblikovati_diagonal(void **state)
     assert_int_equal(missed, 0);
 }
 
-/* ---- H12: a sphere of radius 1e-300 ----------------------------------------- */
+/* ---- H12: the smallest spheres ---------------------------------------------- */
 
-/* Its discriminant (r - |v|)(r + |v|) underflows: a ray through its exact
-** centre must still see what lies behind it, and a shadow ray through it
-** must not be stopped ("renders nothing", NUMERICS H12). */
-static void tiny_sphere_is_invisible(void **state)
+/* A sphere below the coordinate range (radius 1e-300: its r^2 underflows)
+** is refused, naming the radius. One of the smallest radius accepted,
+** LC_MIN_LENGTH, is hit exactly by a ray through its centre, the distance
+** test and the full test agree, and a ray passing 10 radii beside it sees
+** the wall behind (NUMERICS H12). */
+static void tiny_sphere_is_exact(void **state)
 {
     (void)state;
     int mat;
     lc_scene *sc = new_scene(&mat);
-    add_shape(sc, sphere_shape(v3(0, 0, 2), 1e-300), mat);
+    lc_error err;
+    lc_shape below = sphere_shape(v3(0, 0, 2), 1e-300);
+    assert_int_equal(lc_scene_add_shape(sc, &below, mat, &err), -1);
+    assert_string_equal(err.field, "radius");
+    add_shape(sc, sphere_shape(v3(0, 0, 2), LC_MIN_LENGTH), mat);
     lc_shape wall = {LC_PLANE, {0, 0, 5}, {0, 0, -1}, {0, 0, 0}, {0, 0, 0}, 0};
     add_shape(sc, wall, mat);
     compile(sc);
@@ -815,22 +821,16 @@ static void tiny_sphere_is_invisible(void **state)
     double t = sphere_t(&g, &r, 0, HUGE_VAL);
     int full = sphere_hit(&g, &r, 0, HUGE_VAL, &h);
     int found = intersect_closest(sc, &r, HUGE_VAL, &h, NULL);
-    int blocked = intersect_occluded(sc, &r, 7.9, NULL);
-    print_message("tiny sphere: sphere_t %g, sphere_hit %d, intersect_closest %s, "
-                  "intersect_occluded before the wall %d\n", t, full,
-                  !found ? "nothing"
-                       : PRIM_KIND(h.shape) == PRIM_PLANE ? "the wall" : "it",
-                  blocked);
+    assert_true(t > 0 && full && found && PRIM_KIND(h.shape) == PRIM_SPHERE);
+    assert_true(fabs(h.t - 5) <= 1e-15);
+    ray beside = mkray(v3(10 * LC_MIN_LENGTH, 0, -3), v3(0, 0, 1));
+    found = intersect_closest(sc, &beside, HUGE_VAL, &h, NULL);
+    int blocked = intersect_occluded(sc, &beside, 7.9, NULL);
     lc_scene_free(sc);
-    /* the distance test and the full test must agree, the wall behind must
-    ** be found, and nothing stops a ray before the wall */
-    if ((t > 0) != full || !found || PRIM_KIND(h.shape) != PRIM_PLANE || blocked)
-        fail_msg("through the centre of a sphere of radius 1e-300: sphere_t gives %g "
-                 "but sphere_hit %s; scene_closest %s; scene_occluded says %s", t,
-                 full ? "hits" : "misses",
-                 !found ? "finds nothing (the wall behind is lost)"
-                      : PRIM_KIND(h.shape) == PRIM_PLANE ? "finds the wall" : "finds it",
-                 blocked ? "blocked" : "clear");
+    if (!found || PRIM_KIND(h.shape) != PRIM_PLANE || blocked)
+        fail_msg("10 radii beside a sphere of radius 1e-30 a ray %s, and %s before the "
+                 "wall", !found ? "finds nothing" : PRIM_KIND(h.shape) == PRIM_PLANE ?
+                 "finds the wall" : "finds the sphere", blocked ? "is blocked" : "is clear");
 }
 
 int main(void)
@@ -843,7 +843,7 @@ int main(void)
         cmocka_unit_test(coating_does_not_leak),
         cmocka_unit_test(thin_slab_occludes),
         cmocka_unit_test(oblikovati_diagonal),
-        cmocka_unit_test(tiny_sphere_is_invisible),
+        cmocka_unit_test(tiny_sphere_is_exact),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

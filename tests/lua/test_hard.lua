@@ -1032,26 +1032,38 @@ T.test("H12 radius <= 0, parallel edges, inverted boxes rejected naming the fiel
                 HERE, "'box'", "field 'w'", "coplanar")
 end)
 
-T.test("H12 a sphere of radius 1e-300 renders nothing: image identical without it", function()
+T.test("H12 the smallest sphere: 1e-300 refused; 1e-30 is invisible beside the ray, exact on it",
+       function()
   -- Off-axis, and exactly on the centre pixel's ray (odd size: d = (0, 0, 1)
   -- exactly, so the ray passes through the sphere's centre).
-  local function render(tiny)
+  local function render(tiny, r)
     local sc = lancer.scene{camera = lancer.camera{from = {0, 0, -3}, at = {0, 0, 0}, fov = 40},
                             ambient = 0.2}
     sc:add(lancer.plane{point = {0, 0, 5}, normal = {0, 0, -1}})
     sc:add(lancer.sphere{center = {0.6, 0.2, 1}, radius = 0.5})
     sc:add(lancer.point_light{position = {1, 2, -4}, intensity = 30})
-    for _, c in ipairs(tiny) do sc:add(lancer.sphere{center = c, radius = 1e-300}) end
+    for _, c in ipairs(tiny) do sc:add(lancer.sphere{center = c, radius = r}) end
     return sc:render{width = 33, height = 33}
   end
-  local ref = render{}
+  T.check_error(function() render({{0, 0, 2}}, 1e-300) end, "field 'radius'",
+                "coordinate range")
+  local ref = render({}, 1)
   no_bad_pixels(ref, "without")
-  for _, tiny in ipairs{{{0.3, -0.7, 2}}, {{0, 0, 2}}} do
-    local img = render(tiny)
-    local what = ("tiny sphere at (%g, %g, %g)"):format(tiny[1][1], tiny[1][2], tiny[1][3])
-    no_bad_pixels(img, what)
-    same_image(ref, img, what)
+  local img = render({{0.3, -0.7, 2}}, 1e-30)
+  no_bad_pixels(img, "tiny sphere off-axis")
+  same_image(ref, img, "tiny sphere off-axis")
+  img = render({{0, 0, 2}}, 1e-30)
+  no_bad_pixels(img, "tiny sphere on the centre ray")
+  local differ = 0
+  for y = 1, 33 do
+    for x = 1, 33 do
+      local a, b = {ref:pixel(x, y)}, {img:pixel(x, y)}
+      if a[1] ~= b[1] or a[2] ~= b[2] or a[3] ~= b[3] then differ = differ + 1 end
+    end
   end
+  local a, b = {ref:pixel(17, 17)}, {img:pixel(17, 17)}
+  T.eq(differ, 1, "pixels the sphere on the centre ray changes")
+  assert(a[1] ~= b[1], "the centre ray hits the sphere through its centre")
 end)
 
 -- ---- H16 ---------------------------------------------------------------------

@@ -1,0 +1,139 @@
+/* test_reliability.c: the defects a reliability campaign found in the core,
+** each kept from coming back: the OBJ loader's bad inputs, the memory cap,
+** huge sizes in the BVH, saving over what is not a file. */
+#include <errno.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <cmocka.h>
+#include "lancer.h"
+
+/* A fresh file holding `len` bytes of `text`; the path is static. */
+static const char *file_with(const char *text, size_t len)
+{
+    static char path[64];
+    snprintf(path, sizeof path, "/tmp/lancer-test-XXXXXX");
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    assert_int_equal(write(fd, text, len), (ssize_t)len);
+    close(fd);
+    return path;
+}
+
+/* Loads text as an OBJ: NULL is expected, and msg must name `part`. */
+static void obj_fails(const char *text, size_t len, lc_status code, const char *part)
+{
+    const char *path = file_with(text, len);
+    lc_error err;
+    lc_mesh *m = lc_mesh_load_obj(path, &err);
+    unlink(path);
+    if (m)
+        fail_msg("loaded %zu faces from an OBJ that should fail with '%s'",
+                 lc_mesh_face_count(m), part);
+    assert_int_equal(err.code, code);
+    if (!strstr(err.msg, part))
+        fail_msg("'%s' not in: %s", part, err.msg);
+}
+
+/* An empty file, one with no vertex or no face, and any non-OBJ file (a PNG,
+** /dev/zero) are errors, not empty meshes; a line of 2 MiB is refused, not
+** read without end; an index of LONG_MIN is out of range, not overflowed. */
+static void obj_refuses_what_is_no_mesh(void **state)
+{
+    (void)state;
+    obj_fails("", 0, LC_EARG, "has no vertices");
+    obj_fails("# nothing\n\n", 11, LC_EARG, "has no vertices");
+    obj_fails("v 0 0 0\nv 1 0 0\nv 0 1 0\n", 24, LC_EARG, "has no faces");
+    static const char png[] = "\x89PNG\r\n\x1a\n\0\0\0\rIHDR\0\0\0\x01";
+    obj_fails(png, sizeof png - 1, LC_EARG, "not an OBJ file");
+    size_t big = 2u << 20;
+    char *line = malloc(big);
+    memset(line, 'v', big);
+    obj_fails(line, big, LC_EARG, "longer than 1 MiB");
+    free(line);
+    obj_fails("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -9223372036854775808 1 2\n", 51, LC_EARG,
+              "out of range");
+    obj_fails("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -9223372036854775807\n", 51, LC_EARG,
+              "out of range");
+    lc_error err;
+    assert_null(lc_mesh_load_obj("/dev/zero", &err));
+    assert_non_null(strstr(err.msg, "NUL byte"));
+}
+
+/* Coordinates past the range the geometry is exact over are refused with
+** the line: 1e300 made infinite float bounds and a NaN in the BVH build. */
+static void obj_refuses_coordinates_out_of_range(void **state)
+{
+    (void)state;
+    obj_fails("v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n", 36, LC_EARG,
+              "coordinate range");
+    obj_fails("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 33, LC_EARG, ":2:");
+}
+
+/* Running out of memory in the middle of a file is an error naming the file
+** and the line, never a partial mesh: the cap makes the reader's buffer for
+** a 100 kB comment fail (and the same file loads whole without the cap). */
+static void obj_out_of_memory_names_the_line(void **state)
+{
+    (void)state;
+    size_t n = 100000;
+    char *text = malloc(n + 64);
+    int k = sprintf(text, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n# ");
+    memset(text + k, 'x', n);
+    memcpy(text + k + n, "\nf 1 2 3\n", 9);
+    const char *path = file_with(text, k + n + 9);
+    free(text);
+    size_t before = lc_memory_cap(lc_memory_used() + 80000);
+    lc_error err;
+    lc_mesh *m = lc_mesh_load_obj(path, &err);
+    lc_memory_cap(before);
+    assert_null(m);
+    assert_int_equal(err.code, LC_ENOMEM);
+    lc_mesh *whole = lc_mesh_load_obj(path, NULL);   /* uncapped: two faces */
+    unlink(path);
+    assert_non_null(whole);
+    assert_int_equal(lc_mesh_face_count(whole), 2);
+    lc_mesh_free(whole);
+    if (!strstr(err.msg, path) || !strstr(err.msg, "line 5") ||
+        !strstr(err.msg, "memory cap"))
+        fail_msg("not the file, the line and the cap: %s", err.msg);
+}
+
+/* The cap refuses what would pass it, and gives the memory back. */
+static void memory_cap_refuses_and_recovers(void **state)
+{
+    (void)state;
+    size_t used = lc_memory_used();
+    assert_int_equal(lc_memory_cap(used + 1000000), 0);
+    lc_error err;
+    lc_image *img = lc_image_new(1000, 1000, &err);     /* 12 MB of floats */
+    assert_null(img);
+    assert_int_equal(err.code, LC_ENOMEM);
+    assert_non_null(strstr(err.msg, "memory cap is 1"));
+    img = lc_image_new(100, 100, &err);                 /* 120 kB fits */
+    assert_non_null(img);
+    assert_true(lc_memory_used() > used);
+    lc_image_free(img);
+    assert_int_equal(lc_memory_used(), used);
+    lc_memory_cap(0);
+    img = lc_image_new(1000, 1000, &err);
+    assert_non_null(img);
+    lc_image_free(img);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(obj_refuses_what_is_no_mesh),
+        cmocka_unit_test(obj_refuses_coordinates_out_of_range),
+        cmocka_unit_test(obj_out_of_memory_names_the_line),
+        cmocka_unit_test(memory_cap_refuses_and_recovers),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
