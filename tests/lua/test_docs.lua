@@ -243,10 +243,15 @@ local function run_sh(b, out, files)
   os.execute("rm -rf " .. q(dir))
 end
 
+-- A core built with make SAN=1 links only with the sanitizers' runtime.
+local SANITIZED = os.execute(("nm %s 2>/dev/null | grep -q __asan_"):format(
+  q(BUILD .. "/liblancer.a"))) == true
+
 local function run_c(b, out)
   local dir = workspace({["prog.c"] = table.concat(b.body, "\n") .. "\n"})
-  local cc = ("cc -std=c99 -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L -I%s -o prog prog.c " ..
-              "%s $(pkg-config --libs libpng) -lm -pthread"):format(q(ROOT .. "/src"),
+  local cc = ("cc -std=c99 -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L %s-I%s -o prog prog.c " ..
+              "%s $(pkg-config --libs libpng) -lm -pthread"):format(
+              SANITIZED and "-fsanitize=address,undefined " or "", q(ROOT .. "/src"),
               q(BUILD .. "/liblancer.a"))
   local so, se, code = run_in(dir, cc)
   if code ~= 0 then error(("%s: does not compile\n%s%s"):format(where(b), so, se), 0) end
