@@ -6,14 +6,14 @@
 --
 --   ```lua [cont] [full] [file=NAME]     a Lua script
 --   ```sh | ```bash [full] [file=NAME] [needs=PROG] [slurm] [norun=KEY]
---   ```c                                 a whole C program
+--   ```c [file=NAME]                     a whole C program
 --   ```text output [numbers]             what the block before it prints
 --   ```text                              a transcript: "$ " or "> " lines
 --   ```text file=NAME                    a data file later blocks use
 --   ```text norun=KEY                    shown, not run (a formula, ...)
 --
 -- Every block runs in a fresh folder holding examples/, scenes/, tools/,
--- lua/, docs/ and build/ of the repository (relative paths resolve as from
+-- lua/, docs/, src/ and build/ of the repository (relative paths resolve as from
 -- the repository's top) and every file=NAME block seen before it in the
 -- same Markdown file. `lancer` on PATH (and build/bin/lancer there) is the
 -- built command with `--width 32 --height 24 --samples 1` put first, so
@@ -71,7 +71,7 @@ local PENDING = {
 }
 
 -- Repository folders a block's folder links to.
-local LINKED = {"examples", "scenes", "tools", "lua", "docs"}
+local LINKED = {"examples", "scenes", "tools", "lua", "docs", "src"}
 local SMALL = "--width 32 --height 24 --samples 1"
 
 local function output_of(cmd)
@@ -130,7 +130,7 @@ local LANGS = {lua = true, sh = true, bash = true, c = true, text = true}
 local WORDS = {
   lua = {cont = true, full = true, file = true, pending = true},
   sh = {full = true, file = true, needs = true, slurm = true, norun = true, pending = true},
-  c = {pending = true},
+  c = {pending = true, file = true},
   text = {output = true, numbers = true, norun = true, pending = true, file = true},
 }
 WORDS.bash = WORDS.sh
