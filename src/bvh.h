@@ -2,6 +2,7 @@
 #ifndef LC_BVH_H
 #define LC_BVH_H
 
+#include <signal.h>
 #include <stddef.h>
 #include <float.h>
 #include <math.h>
@@ -33,8 +34,11 @@ typedef struct {
 
 /* Builds over items[0, n) (binned surface area heuristic, two threads at the
 ** top), reordering them; refs then hold the ids in leaf order. The items
-** array is taken over and freed. n may be 0. */
-lc_status bvh_build(bvh *b, bvh_item *items, size_t n, lc_error *err);
+** array is taken over and freed. n may be 0. Stops with LC_ECANCEL once
+** interrupt_count() differs from interrupts_seen (polled every few
+** hundred nodes and every pass over many items). */
+lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_seen,
+                    lc_error *err);
 void      bvh_free(bvh *b);
 
 /* Roundings in a slab distance (bound - o) * inv: the subtraction, the

@@ -8,6 +8,7 @@
 #include "scene.h"
 #include "clock.h"
 #include "camera.h"
+#include "interrupt.h"
 #include "mem.h"
 
 void compile_free(compiled *c)
@@ -20,7 +21,7 @@ void compile_free(compiled *c)
 
 /* Lists the non-degenerate triangles: a zero-area face can never be hit,
 ** and skipping it here keeps NaN normals out of the renderer. */
-static lc_status list_triangles(lc_scene *s, lc_error *err)
+static lc_status list_triangles(lc_scene *s, sig_atomic_t seen, lc_error *err)
 {
     compiled *c = &s->c;
     size_t total = instance_faces(s);         /* listed once, after the flat ones */
@@ -48,10 +49,10 @@ static lc_status list_triangles(lc_scene *s, lc_error *err)
         }
     }
     c->nflat = c->ntris;
-    return instance_compile(s, err);
+    return instance_compile(s, seen, err);
 }
 
-static lc_status build_bvh(lc_scene *s, lc_error *err)
+static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
 {
     compiled *c = &s->c;
     size_t n = c->nflat + c->ninstances;
@@ -72,6 +73,10 @@ static lc_status build_bvh(lc_scene *s, lc_error *err)
         }
     }
     for (size_t i = 0; i < c->nflat; i++, it++) {
+        if ((i & 0xffff) == 0xffff && interrupt_count() != seen) {
+            mem_free(items);
+            return error_fail(err, LC_ECANCEL, NULL, "render cancelled");
+        }
         const lc_mesh *m = s->meshes[c->tris[i].mesh].mesh;
         const uint32_t *ix = m->f + 3 * c->tris[i].face;
         it->id = PRIM_ID(PRIM_TRIANGLE, i);
@@ -83,7 +88,7 @@ static lc_status build_bvh(lc_scene *s, lc_error *err)
             instance_bounds(s, i, it->lo, it->hi);
             it++;
         }
-    return bvh_build(&c->bvh, items, n, err);
+    return bvh_build(&c->bvh, items, n, seen, err);
 }
 
 /* A material reflects through a cone when it has one wider than an ulp of a
@@ -240,7 +245,8 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     return LC_OK;
 }
 
-lc_status compile_scene(lc_scene *s, const lc_render_options *o, lc_error *err)
+lc_status compile_scene(lc_scene *s, const lc_render_options *o, sig_atomic_t seen,
+                        lc_error *err)
 {
     compiled *c = &s->c;
     size_t faces = 0;
@@ -249,9 +255,9 @@ lc_status compile_scene(lc_scene *s, const lc_render_options *o, lc_error *err)
     double t0 = clock_seconds();
     if (!c->valid || c->faces_seen != faces) {     /* geometry changed since */
         compile_free(c);
-        lc_status st = list_triangles(s, err);
+        lc_status st = list_triangles(s, seen, err);
         if (st == LC_OK)
-            st = build_bvh(s, err);
+            st = build_bvh(s, seen, err);
         if (st != LC_OK) {
             compile_free(c);
             return st;

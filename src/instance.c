@@ -94,7 +94,7 @@ static void blas_clear(mesh_bvh *mb)
 }
 
 /* Builds mb's BVH over the mesh's faces as they are now. */
-static lc_status blas_build(mesh_bvh *mb, lc_error *err)
+static lc_status blas_build(mesh_bvh *mb, sig_atomic_t seen, lc_error *err)
 {
     const lc_mesh *m = mb->mesh;
     blas_clear(mb);
@@ -126,7 +126,7 @@ static lc_status blas_build(mesh_bvh *mb, lc_error *err)
         mb->face[n++] = (uint32_t)f;
     }
     mb->nface = n;
-    lc_status st = bvh_build(&mb->bvh, items, n, err);
+    lc_status st = bvh_build(&mb->bvh, items, n, seen, err);
     if (st)
         blas_clear(mb);
     return st;
@@ -167,7 +167,7 @@ size_t instance_faces(const lc_scene *s)
     return total;
 }
 
-lc_status instance_compile(lc_scene *s, lc_error *err)
+lc_status instance_compile(lc_scene *s, sig_atomic_t seen, lc_error *err)
 {
     compiled *c = &s->c;
     for (size_t i = 0; i < s->nblas; i++)
@@ -193,7 +193,7 @@ lc_status instance_compile(lc_scene *s, lc_error *err)
             mb->faces = (size_t)-1;
         }
         if (mb->faces != mp->mesh->nf) {   /* new, or the mesh grew: rebuild */
-            lc_status st = blas_build(mb, err);
+            lc_status st = blas_build(mb, seen, err);
             if (st)
                 return st;
         }

@@ -9,6 +9,7 @@
 #include "camera.h"
 #include "error.h"
 #include "image.h"
+#include "interrupt.h"
 #include "rng.h"
 #include "shade.h"
 #include "clock.h"
@@ -159,7 +160,7 @@ lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y
                        sample + 1);
     if (!s->has_camera)
         return error_fail(err, LC_EARG, "camera", "the scene has no camera");
-    if (compile_scene(s, o, err))
+    if (compile_scene(s, o, interrupt_count(), err))
         return err ? err->code : LC_ENOMEM;
     job j;
     memset(&j, 0, sizeof j);
@@ -207,16 +208,6 @@ static void *work(void *arg)
     return NULL;
 }
 
-/* lc_interrupt() bumps this from a signal handler; a render cancels when it
-** has changed since the render began (so a Ctrl-C while the BVH is built
-** stops it at its first poll, and one between adaptive passes too). */
-static volatile sig_atomic_t interrupts;
-
-void lc_interrupt(void)
-{
-    interrupts++;
-}
-
 /* Runs every tile of one pass on the workers (tracers kept across passes)
 ** while this thread reports progress and honours cancel. Returns the
 ** number of threads that ran. */
@@ -253,7 +244,7 @@ static int run_pass(job *j, worker *ws, int nt)
             until.tv_nsec -= 1000000000;
         }
         pthread_cond_timedwait(&j->tile_done, &j->lock, &until);
-        if (interrupts != j->interrupts_seen)
+        if (interrupt_count() != j->interrupts_seen)
             j->cancel = 1;
         if (o->progress && !j->cancel) {
             double done = j->base + j->share * j->done / j->ntiles;
@@ -298,9 +289,11 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
         error_fail(err, LC_EARG, "camera", "the scene has no camera");
         return NULL;
     }
-    sig_atomic_t interrupts_seen = interrupts;
+    /* A Ctrl-C from now on cancels: while the BVH is built (which polls),
+    ** between tiles, between adaptive passes. */
+    sig_atomic_t interrupts_seen = interrupt_count();
     double t0 = clock_seconds();
-    if (compile_scene(s, o, err))
+    if (compile_scene(s, o, interrupts_seen, err))
         return NULL;
     double t1 = clock_seconds();
     lc_image *img = lc_image_new(o->width, o->height, err);

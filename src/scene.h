@@ -2,6 +2,7 @@
 #ifndef LC_SCENE_H
 #define LC_SCENE_H
 
+#include <signal.h>
 #include "bvh.h"
 #include "mesh.h"
 #include "shape.h"
@@ -91,8 +92,10 @@ enum {
     PLAN_GLOSSY   = 1 << 5    /* kr > 0 through a diffusion cone, and cones on */
 };
 
-/* o: the render's switches, or NULL for the defaults. */
-lc_status compile_scene(lc_scene *s, const lc_render_options *o, lc_error *err);
+/* o: the render's switches, or NULL for the defaults; a BVH build stops
+** with LC_ECANCEL once interrupt_count() differs from interrupts_seen. */
+lc_status compile_scene(lc_scene *s, const lc_render_options *o,
+                        sig_atomic_t interrupts_seen, lc_error *err);
 void      compile_free(compiled *c);
 int       compile_depth(const lc_scene *s, const lc_render_options *o);
 lc_mesh  *mesh_retain(lc_mesh *m);
@@ -101,7 +104,7 @@ lc_mesh  *mesh_retain(lc_mesh *m);
 ** their faces after the flat triangles in c->tris (room for
 ** instance_faces(s) more entries must be there). */
 size_t    instance_faces(const lc_scene *s);
-lc_status instance_compile(lc_scene *s, lc_error *err);
+lc_status instance_compile(lc_scene *s, sig_atomic_t interrupts_seen, lc_error *err);
 void      instance_free_all(lc_scene *s);            /* the cache, at scene free */
 /* World bounds of mesh_prim i, an instance, rounded outward to float. */
 void      instance_bounds(const lc_scene *s, size_t i, float lo[3], float hi[3]);

@@ -92,7 +92,7 @@ static void bvh_matches_brute_force(void **state)
     }
     assert_true(lc_scene_add_mesh(s, mesh, mi, &err) >= 0);
     lc_mesh_free(mesh);                      /* the scene keeps its own hold */
-    assert_int_equal(compile_scene(s, NULL, &err), LC_OK);
+    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
     assert_true(s->c.bvh.nnodes > 1);
 
     int hits = 0, mismatches = 0;
@@ -145,7 +145,7 @@ static void mesh_is_watertight(void **state)
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
     assert_true(lc_scene_add_mesh(s, mesh, mi, &err) >= 0);
-    assert_int_equal(compile_scene(s, NULL, &err), LC_OK);
+    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
     assert_true(s->c.degenerate > 0);        /* the poles' zero-area faces */
 
     int rays = 0, misses = 0;
@@ -188,7 +188,7 @@ static void degenerate_triangles_are_skipped(void **state)
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
     lc_scene_add_mesh(s, mesh, mi, &err);
-    assert_int_equal(compile_scene(s, NULL, &err), LC_OK);
+    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
     assert_int_equal(s->c.degenerate, 3);
     assert_int_equal(s->c.ntris, 0);
     ray r = {v3(1, 1, -5), v3(0, 0, 1)};

@@ -98,7 +98,7 @@ static void add_shape(lc_scene *s, lc_shape sh, int mat)
 static void compile(lc_scene *s)
 {
     lc_error err;
-    if (compile_scene(s, NULL, &err) != LC_OK)
+    if (compile_scene(s, NULL, 0, &err) != LC_OK)
         fail_msg("compile: %s", err.msg);
 }
 
