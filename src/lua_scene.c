@@ -8,7 +8,7 @@
 #include "lancer.h"
 #include "lua_fields.h"
 #include "lua_types.h"
-#include "lua_progress.h"
+#include "progress_bar.h"
 #include "clock.h"
 
 /* Mirror bounces: the chain is a loop, so this only bounds the time a
@@ -541,14 +541,14 @@ static int w_scene_render(lua_State *L)
     luaL_setmetatable(L, IMAGE);
     lc_stats st;
     lc_error err;
-    lua_progress bar;
-    lua_progress_begin(&bar, show);
-    o.progress = lua_progress_update;
+    progress_bar bar;
+    progress_bar_begin(&bar, show);
+    o.progress = progress_bar_update;
     o.progress_ud = &bar;
     double lua_seconds = clock_seconds() - u->mark;
     ui->img = lc_scene_render(u->s, &o, &st, &err);
     u->mark = clock_seconds();
-    lua_progress_end(&bar);
+    progress_bar_end(&bar);
     if (!ui->img) {
         if (strcmp(err.field, "camera") == 0)
             return luaL_error(L, "render: the scene has no camera (set scene.camera = "
