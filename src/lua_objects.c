@@ -284,12 +284,11 @@ static int w_point_light(lua_State *L)
 {
     static const char *const known[] = {"position", "color", "intensity", "falloff", NULL};
     lf_open(L, 1, known);
-    lc_point_light l;
-    memset(&l, 0, sizeof l);
+    lc_point_light l = lc_point_light_default();
     l.position = lf_vec3(L, 1, "position", 1, l.position);
-    l.color = lf_color(L, 1, "color", 0, (lc_color){1, 1, 1});
-    l.intensity = lf_number(L, 1, "intensity", 0, 1);
-    l.falloff = (lc_falloff)lf_option(L, 1, "falloff", falloff_opts, 0);
+    l.color = lf_color(L, 1, "color", 0, l.color);
+    l.intensity = lf_number(L, 1, "intensity", 0, l.intensity);
+    l.falloff = (lc_falloff)lf_option(L, 1, "falloff", falloff_opts, (int)l.falloff);
     lc_error err;
     if (lc_point_light_check(&l, &err))
         return lf_raise(L, 1, &err);
@@ -336,14 +335,13 @@ static int w_camera(lua_State *L)
     static const char *const known[] = {"from", "at", "up", "fov", "aperture", "focus",
                                         NULL};
     lf_open(L, 1, known);
-    lc_camera c;
-    memset(&c, 0, sizeof c);
+    lc_camera c = lc_camera_default();
     c.from = lf_vec3(L, 1, "from", 1, c.from);
     c.at = lf_vec3(L, 1, "at", 1, c.at);
-    c.up = lf_vec3(L, 1, "up", 0, (lc_vec3){0, 1, 0});
-    c.fov = lf_number(L, 1, "fov", 0, 60);
-    c.aperture = lf_number(L, 1, "aperture", 0, 0);
-    c.focus = lf_number(L, 1, "focus", 0, 0);
+    c.up = lf_vec3(L, 1, "up", 0, c.up);
+    c.fov = lf_number(L, 1, "fov", 0, c.fov);
+    c.aperture = lf_number(L, 1, "aperture", 0, c.aperture);
+    c.focus = lf_number(L, 1, "focus", 0, c.focus);
     lc_error err;
     if (lc_camera_check(&c, &err))
         return lf_raise(L, 1, &err);

@@ -1,4 +1,5 @@
 /* lua_scene.c: scenes: building, rendering with statistics, explaining a pixel. */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -68,10 +69,7 @@ static int w_scene(lua_State *L)
     lc_settings st = lc_settings_default();
     st.background = lf_color(L, 1, "background", 0, st.background);
     st.ambient = lf_color(L, 1, "ambient", 0, st.ambient);
-    st.max_depth = lf_integer(L, 1, "max_depth", 0, st.max_depth);
-    if (st.max_depth < 0 || st.max_depth > LC_MAX_DEPTH)
-        return lf_error(L, 1, "max_depth", "must be in [0, %d], got %d", LC_MAX_DEPTH,
-                        st.max_depth);
+    st.max_depth = lf_integer(L, 1, "max_depth", 0, st.max_depth);  /* range: the core's */
     int has_camera = lf_present(L, 1, "camera");
     if (has_camera)
         lf_udata(L, 1, "camera", CAMERA, 1);   /* type check before allocating */
@@ -496,8 +494,6 @@ static void read_render_options(lua_State *L, int arg, lc_render_options *o)
     o->specular = lf_boolean(L, arg, "specular", 1);
     o->generic = lf_boolean(L, arg, "generic", 0);
     o->cutoff = lf_number(L, arg, "cutoff", 0, o->cutoff);
-    if (o->cutoff < 0 || o->cutoff > 1)
-        lf_error(L, arg, "cutoff", "must be in [0, 1], got %g", o->cutoff);
     int frame = lf_integer(L, arg, "frame", 0, 0);
     if (frame < 0)
         lf_error(L, arg, "frame", "must be >= 0, got %d", frame);
@@ -773,7 +769,8 @@ static int w_scene_newindex(lua_State *L)
     } else if (strcmp(k, "max_depth") == 0) {
         int isint;
         lua_Integer d = lua_tointegerx(L, 3, &isint);
-        if (lua_type(L, 3) != LUA_TNUMBER || !isint || d < 0 || d > LC_MAX_DEPTH)
+        /* Whether it converts to an int; the range is the core's to check. */
+        if (lua_type(L, 3) != LUA_TNUMBER || !isint || d < INT_MIN || d > INT_MAX)
             return luaL_error(L, "scene.max_depth: integer in [0, %d] expected, got %s",
                               LC_MAX_DEPTH, luaL_tolstring(L, 3, NULL));
         st.max_depth = (int)d;
