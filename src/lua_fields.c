@@ -337,3 +337,22 @@ void lf_push_color(lua_State *L, lc_color c)
     lc_vec3 v = {c.r, c.g, c.b};
     lf_push_vec3(L, v);
 }
+
+void lf_add_number(luaL_Buffer *b, double x)
+{
+    char tmp[40];
+    snprintf(tmp, sizeof tmp, "%.6g", x);
+    luaL_addstring(b, tmp);
+}
+
+void lf_add_vec3(luaL_Buffer *b, const char *name, lc_vec3 v)
+{
+    luaL_addstring(b, name);
+    luaL_addstring(b, " = {");
+    lf_add_number(b, v.x);
+    luaL_addstring(b, ", ");
+    lf_add_number(b, v.y);
+    luaL_addstring(b, ", ");
+    lf_add_number(b, v.z);
+    luaL_addstring(b, "}");
+}

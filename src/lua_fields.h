@@ -3,6 +3,7 @@
 #define LUA_FIELDS_H
 
 #include <lua.h>
+#include <lauxlib.h>
 #include "lancer.h"
 
 /* Checks that argument `arg` is a table whose keys are all in `known`
@@ -33,6 +34,9 @@ int lf_to_color(lua_State *L, int idx, lc_color *out, char *why, size_t whylen);
 int lf_to_vec3(lua_State *L, int idx, lc_vec3 *out, char *why, size_t whylen);
 
 void lf_push_vec3(lua_State *L, lc_vec3 v);
+/* For __tostring: "%.6g" numbers, and "name = {x, y, z}". */
+void lf_add_number(luaL_Buffer *b, double x);
+void lf_add_vec3(luaL_Buffer *b, const char *name, lc_vec3 v);
 void lf_push_color(lua_State *L, lc_color c);
 
 #endif

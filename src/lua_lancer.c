@@ -1,6 +1,5 @@
 /* lua_lancer.c: the Lua binding's module, a thin layer over lancer.h: require
-** "lancer.core" gathers what lua_objects.c, lua_mesh.c, lua_scene.c and
-** lua_image.c register. */
+** "lancer.core" gathers what the lua_*.c files register. */
 #include <lauxlib.h>
 #include <lua.h>
 #include "lancer.h"
@@ -24,6 +23,7 @@ int luaopen_lancer_core(lua_State *L)
 {
     lua_newtable(L);
     objects_register(L);
+    shapes_register(L);
     mesh_register(L);
     scene_register(L);
     image_register(L);

@@ -324,7 +324,7 @@ int motion_moved(lua_State *L)
         if (lc_shape_transform(&sh->s, t, &out, &err))
             return raise_transform(L, 2, &err);
         lua_getiuservalue(L, 1, 1);
-        push_shape_value(L, &out, -1);
+        shapes_push(L, &out, -1);
         return 1;
     }
     ud_light *li = luaL_testudata(L, 1, LIGHT);
@@ -333,7 +333,7 @@ int motion_moved(lua_State *L)
         l.position = lc_transform_point(t, l.position);
         if (lc_point_light_check(&l, &err))
             return luaL_argerror(L, 2, err.msg);
-        push_light_value(L, &l);
+        objects_push_light(L, &l);
         return 1;
     }
     if (luaL_testudata(L, 1, MESH)) {

@@ -575,8 +575,6 @@ static int w_scene_render(lua_State *L)
     return 2;
 }
 
-static const char *const kind_names[] = {"sphere", "quad", "box", "plane", "triangle"};
-
 /* Pushes record i of recs as a table, its children (records whose parent is
 ** i) under 'rays'. */
 static void push_record(lua_State *L, const lc_ray_record *recs, size_t n, size_t i)
@@ -610,7 +608,8 @@ static void push_record(lua_State *L, const lc_ray_record *recs, size_t n, size_
         lua_setfield(L, -2, "point");
         lf_push_vec3(L, x->normal);
         lua_setfield(L, -2, "normal");
-        lua_pushfstring(L, "%s %d", kind_names[x->shape_kind], (int)x->shape + 1);
+        lua_pushfstring(L, "%s %d", lc_shape_kind_name((lc_shape_kind)x->shape_kind),
+                        (int)x->shape + 1);
         lua_setfield(L, -2, "shape");
         lua_pushinteger(L, x->material + 1);
         lua_setfield(L, -2, "material");

@@ -47,7 +47,8 @@ void binding_class(lua_State *L, const char *name, const luaL_Reg *meta,
 
 /* Each file registers its metatables and sets its constructors in the module
 ** table at the top of the stack. */
-void objects_register(lua_State *L);   /* lua_objects.c: materials, shapes, lights, cameras */
+void objects_register(lua_State *L);   /* lua_objects.c: materials, lights, cameras */
+void shapes_register(lua_State *L);    /* lua_shapes.c */
 void mesh_register(lua_State *L);      /* lua_mesh.c */
 void scene_register(lua_State *L);     /* lua_scene.c, with ray trees */
 void image_register(lua_State *L);     /* lua_image.c */
@@ -56,9 +57,12 @@ void scene_objects_register(lua_State *L); /* lua_scene_objects.c: objects, remo
 
 /* lua_motion.c: obj:moved(T) for shapes, lights, meshes and groups. */
 int motion_moved(lua_State *L);
-/* The shape and light pushed for core values, with material userdata (or nil)
-** at stack index mat for the shape (lua_objects.c). */
-void push_shape_value(lua_State *L, const lc_shape *s, int mat);
-void push_light_value(lua_State *L, const lc_point_light *l);
+/* lua_shapes.c: pushes the shape userdata for a core value, with the material
+** userdata (or nil) at stack index mat; whether a shape as added is the one
+** a scene lists (lc_shape_stored, then the kind's fields compared). */
+void shapes_push(lua_State *L, const lc_shape *s, int mat);
+int  shapes_match(const lc_shape *added, const lc_shape *listed);
+/* lua_objects.c: pushes the light userdata for a core value. */
+void objects_push_light(lua_State *L, const lc_point_light *l);
 
 #endif
