@@ -26,6 +26,8 @@ int luaopen_lancer_core(lua_State *L)
     shapes_register(L);
     mesh_register(L);
     scene_register(L);
+    render_register(L);
+    explain_register(L);
     image_register(L);
     motion_register(L);
     scene_objects_register(L);

@@ -7,14 +7,6 @@
 #include "lua_fields.h"
 #include "lua_types.h"
 
-static lc_scene *check_scene(lua_State *L, int idx)
-{
-    ud_scene *u = luaL_checkudata(L, idx, SCENE);
-    if (!u->s)
-        luaL_argerror(L, idx, "lancer.Scene already freed");
-    return u->s;
-}
-
 /* Pushes a table from the core's material index to its material userdata
 ** (the inverse of the scene's SC_MATERIALS; the default material is absent). */
 static void push_materials(lua_State *L, int sidx)
@@ -79,7 +71,7 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
 ** Ids count from 1 (the core's from 0), and stay with their object. */
 static int w_scene_objects(lua_State *L)
 {
-    lc_scene *s = check_scene(L, 1);
+    lc_scene *s = scene_check(L, 1)->s;
     size_t n = lc_scene_object_count(s);
     lc_object *objs = lua_newuserdatauv(L, (n + 1) * sizeof *objs, 0);  /* Lua frees it */
     lc_scene_objects(s, objs, n);
@@ -115,7 +107,7 @@ static int matches(lua_State *L, int idx, const lc_object *o)
 ** light or mesh that was added, when it was added once. */
 static int w_scene_remove(lua_State *L)
 {
-    lc_scene *s = check_scene(L, 1);
+    lc_scene *s = scene_check(L, 1)->s;
     lc_error err;
     int id = -1;
     if (lua_type(L, 2) == LUA_TTABLE) {

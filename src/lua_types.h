@@ -27,7 +27,7 @@ typedef struct {
     lc_scene *s;
     double    mark;     /* when the script last handed control back: creation or
                         ** the end of a render; what follows is scene building */
-} ud_scene;                                       /* user value 1: see lua_scene.c */
+} ud_scene;                                       /* user value 1: see SC_CAMERA */
 typedef struct { lc_image *img; } ud_image;
 typedef struct { lc_mesh *m; } ud_mesh;           /* user value 1: its material */
 typedef struct { lc_transform t; } ud_transform;
@@ -50,10 +50,24 @@ void binding_class(lua_State *L, const char *name, const luaL_Reg *meta,
 void objects_register(lua_State *L);   /* lua_objects.c: materials, lights, cameras */
 void shapes_register(lua_State *L);    /* lua_shapes.c */
 void mesh_register(lua_State *L);      /* lua_mesh.c */
-void scene_register(lua_State *L);     /* lua_scene.c, with ray trees */
+void scene_register(lua_State *L);     /* lua_scene.c: first, the others add methods */
+void render_register(lua_State *L);    /* lua_render.c */
+void explain_register(lua_State *L);   /* lua_explain.c, with ray trees */
 void image_register(lua_State *L);     /* lua_image.c */
 void motion_register(lua_State *L);    /* lua_motion.c: transforms and groups */
 void scene_objects_register(lua_State *L); /* lua_scene_objects.c: objects, remove */
+
+/* lua_scene.c: the scene userdata at idx, raising when it is not one or is freed. */
+ud_scene *scene_check(lua_State *L, int idx);
+
+/* lua_render.c: the options render and explain share, from the named-field
+** table at arg (checked by the caller's lf_open against RENDER_OPTIONS). */
+#define RENDER_OPTIONS "width", "height", "samples", "seed", "threads", "cosine", \
+                       "cutoff", "shadows", "reflections", "specular", "generic", \
+                       "frame", "sampler", "light_samples", "cone_samples", "max_depth", \
+                       "noise", "min_samples", "glossy"
+void render_read_options(lua_State *L, int arg, lc_render_options *o);
+void render_apply_overrides(lua_State *L, lc_render_options *o);
 
 /* lua_motion.c: obj:moved(T) for shapes, lights, meshes and groups. */
 int motion_moved(lua_State *L);
