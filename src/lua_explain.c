@@ -65,18 +65,30 @@ static void push_record(lua_State *L, const lc_ray_record *recs, size_t n, size_
     lua_setfield(L, -2, "rays");
 }
 
-/* scene:explain{x = , y = , sample = 1, ...render options}: the ray tree of
-** one sample of one pixel, as nested tables that print as a tree. */
-static int w_scene_explain(lua_State *L)
+typedef struct {
+    lc_render_options o;
+    int x, y, sample;          /* 1-based, as given */
+} explain_args;
+
+/* Checks explain's arguments: the scene at 1, the options table at 2. */
+static ud_scene *explain_read(lua_State *L, explain_args *a, int plain)
 {
     static const char *const known[] = {"x", "y", "sample", RENDER_OPTIONS, NULL};
     ud_scene *u = scene_check(L, 1);
+    lua_settop(L, 2);
     lf_open(L, 2, known);
-    lc_render_options o;
-    render_read_options(L, 2, &o);
-    render_apply_overrides(L, &o);
-    int x = lf_integer(L, 2, "x", 1, 0), y = lf_integer(L, 2, "y", 1, 0);
-    int sample = lf_integer(L, 2, "sample", 0, 1);
+    render_read_options(L, 2, &a->o);
+    a->x = lf_integer(L, 2, "x", 1, 0);
+    a->y = lf_integer(L, 2, "y", 1, 0);
+    a->sample = lf_integer(L, 2, "sample", 0, 1);
+    lc_error err;
+    if (lc_render_options_check(&a->o, &err))
+        hook_raise(L, plain, 2, &err);
+    return u;
+}
+
+static int explain_work(lua_State *L, ud_scene *u, const explain_args *a, int plain)
+{
     /* The records belong to a userdata from the start: building the tables
     ** may raise (out of memory) and nothing may leak then. */
     lc_ray_record **box = lua_newuserdatauv(L, sizeof *box, 0);
@@ -87,10 +99,28 @@ static int w_scene_explain(lua_State *L)
     lua_setmetatable(L, -2);
     size_t n;
     lc_error err;
-    if (lc_scene_explain(u->s, &o, x - 1, y - 1, sample - 1, box, &n, &err))
-        return lf_raise(L, 2, &err);
+    if (lc_scene_explain(u->s, &a->o, a->x - 1, a->y - 1, a->sample - 1, box, &n, &err))
+        return hook_raise(L, plain, 2, &err);
     push_record(L, *box, n, 0);
     return 1;
+}
+
+/* The hook's plain explain (lua_hook.c). */
+static int explain_plain(lua_State *L)
+{
+    explain_args a;
+    ud_scene *u = explain_read(L, &a, 1);
+    return explain_work(L, u, &a, 1);
+}
+
+/* scene:explain{x = , y = , sample = 1, ...render options}: the ray tree of
+** one sample of one pixel, as nested tables that print as a tree. */
+static int w_scene_explain(lua_State *L)
+{
+    explain_args a;
+    ud_scene *u = explain_read(L, &a, 0);
+    int n = hook_call(L, "explain", explain_plain, 2);
+    return n >= 0 ? n : explain_work(L, u, &a, 0);
 }
 
 /* Writes one node and its children, indented, into b. */

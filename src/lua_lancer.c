@@ -31,11 +31,10 @@ int luaopen_lancer_core(lua_State *L)
     image_register(L);
     motion_register(L);
     scene_objects_register(L);
+    hook_register(L);
     lua_pushstring(L, LC_VERSION);
     lua_setfield(L, -2, "version");
     lua_pushstring(L, "lancer " LC_VERSION);
     lua_setfield(L, -2, "_VERSION");
-    lua_newtable(L);
-    lua_setfield(L, -2, "overrides");
     return 1;
 }

@@ -10,36 +10,6 @@
 #include "progress_bar.h"
 #include "clock.h"
 
-/* What the command line (lancer --width ...) asked for wins over the script. */
-void render_apply_overrides(lua_State *L, lc_render_options *o)
-{
-    static const char *const mods[] = {"lancer", "lancer.core"};
-    static const char *const names[] = {"width", "height", "samples"};
-    int *dst[] = {&o->width, &o->height, &o->samples};
-    int top = lua_gettop(L);
-    lua_getfield(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
-    int loaded = lua_gettop(L);
-    for (int i = 0; i < 2; i++) {
-        lua_settop(L, loaded);
-        if (lua_getfield(L, loaded, mods[i]) != LUA_TTABLE ||
-            lua_getfield(L, -1, "overrides") != LUA_TTABLE)
-            continue;
-        int t = lua_gettop(L);
-        for (int k = 0; k < 3; k++) {
-            if (lua_getfield(L, t, names[k]) != LUA_TNIL) {
-                if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 ||
-                    lua_tointeger(L, -1) > LC_MAX_SIDE)
-                    luaL_error(L, "lancer.overrides.%s: integer in [1, %d] expected, got %s",
-                               names[k], LC_MAX_SIDE, luaL_tolstring(L, -1, NULL));
-                *dst[k] = (int)lua_tointeger(L, -1);
-            }
-            lua_pop(L, 1);
-        }
-        break;
-    }
-    lua_settop(L, top);
-}
-
 static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
 {
     lua_createtable(L, 0, 16);
@@ -89,34 +59,6 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
     lua_setfield(L, -2, "why");
 }
 
-/* lancer.overrides[name] is true: --check sends renders to lancer.check,
-** --accuracy to lancer.accuracy, --stats prints each render's ledger. */
-static int override_flag(lua_State *L, const char *name)
-{
-    int top = lua_gettop(L), on = 0;
-    lua_getfield(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
-    if (lua_getfield(L, -1, "lancer") == LUA_TTABLE &&
-        lua_getfield(L, -1, "overrides") == LUA_TTABLE) {
-        lua_getfield(L, -1, name);
-        on = lua_toboolean(L, -1);
-    }
-    lua_settop(L, top);
-    return on;
-}
-
-/* Hands render(scene, opts) to module.render: --check and --accuracy. */
-static int divert_render(lua_State *L, const char *module)
-{
-    lua_getglobal(L, "require");
-    lua_pushstring(L, module);
-    lua_call(L, 1, 1);
-    lua_getfield(L, -1, "render");
-    lua_pushvalue(L, 1);
-    lua_pushvalue(L, 2);
-    lua_call(L, 2, 2);
-    return 2;
-}
-
 static const char *const sampler_opts[] = {"sobol", "jitter", "random", NULL};
 
 void render_read_options(lua_State *L, int arg, lc_render_options *o)
@@ -158,30 +100,32 @@ void render_read_options(lua_State *L, int arg, lc_render_options *o)
     o->noise = lf_number(L, arg, "noise", 0, o->noise);
     o->min_samples = lf_integer(L, arg, "min_samples", 0, o->min_samples);
     o->glossy = lf_boolean(L, arg, "glossy", 1);
-    lc_error err;
-    if (lc_render_options_check(o, &err))
-        lf_raise(L, arg, &err);
 }
 
-static int w_scene_render(lua_State *L)
+/* Checks render's arguments: the scene at 1, the options at 2 (a table
+** afterwards); the options in *o and whether to draw progress in *show. */
+static ud_scene *render_args(lua_State *L, lc_render_options *o, int *show, int plain)
 {
     static const char *const known[] = {RENDER_OPTIONS, "progress", NULL};
     ud_scene *u = scene_check(L, 1);
     lua_settop(L, 2);
-    if (override_flag(L, "check"))
-        return divert_render(L, "lancer.check");
-    if (override_flag(L, "accuracy"))
-        return divert_render(L, "lancer.accuracy");
-    if (lua_isnoneornil(L, 2)) {
-        lua_settop(L, 1);
+    if (lua_isnil(L, 2)) {
         lua_newtable(L);
+        lua_replace(L, 2);
     }
     lf_open(L, 2, known);
-    lc_render_options o;
-    render_read_options(L, 2, &o);
-    int show = lf_present(L, 2, "progress") ? lf_boolean(L, 2, "progress", 0) : -1;
-    render_apply_overrides(L, &o);
+    render_read_options(L, 2, o);
+    *show = lf_present(L, 2, "progress") ? lf_boolean(L, 2, "progress", 0) : -1;
+    lc_error err;
+    if (lc_render_options_check(o, &err))
+        hook_raise(L, plain, 2, &err);
+    return u;
+}
 
+/* Renders: pushes the image and the statistics. */
+static int render_work(lua_State *L, ud_scene *u, lc_render_options *o, int show,
+                       int plain)
+{
     ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
     ui->img = NULL;
     luaL_setmetatable(L, IMAGE);
@@ -189,40 +133,39 @@ static int w_scene_render(lua_State *L)
     lc_error err;
     progress_bar bar;
     progress_bar_begin(&bar, show);
-    o.progress = progress_bar_update;
-    o.progress_ud = &bar;
+    o->progress = progress_bar_update;
+    o->progress_ud = &bar;
     double lua_seconds = clock_seconds() - u->mark;
-    ui->img = lc_scene_render(u->s, &o, &st, &err);
+    ui->img = lc_scene_render(u->s, o, &st, &err);
     u->mark = clock_seconds();
     progress_bar_end(&bar);
     if (!ui->img) {
         if (strcmp(err.field, "camera") == 0)
-            return luaL_error(L, "render: the scene has no camera (set scene.camera = "
-                              "lancer.camera{...})");
-        return lf_raise(L, 2, &err);
+            return hook_fail(L, plain, 0, "render: the scene has no camera (set "
+                             "scene.camera = lancer.camera{...})");
+        return hook_raise(L, plain, 2, &err);
     }
     push_stats(L, &st, lua_seconds);
-    int top = lua_gettop(L);                /* the image at top - 1, stats at top */
-    if (override_flag(L, "stats")) {
-        lua_getglobal(L, "require");
-        lua_pushliteral(L, "lancer.ledger");
-        lua_call(L, 1, 1);
-        lua_getfield(L, -1, "report");
-        lua_pushvalue(L, -3);
-        lua_call(L, 1, 0);
-        lua_pop(L, 1);
-    }
-    /* lancer.overrides.on_render(img, stats): the REPL's preview and save. */
-    lua_getfield(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
-    if (lua_getfield(L, -1, "lancer") == LUA_TTABLE &&
-        lua_getfield(L, -1, "overrides") == LUA_TTABLE &&
-        lua_getfield(L, -1, "on_render") == LUA_TFUNCTION) {
-        lua_pushvalue(L, top - 1);
-        lua_pushvalue(L, top);
-        lua_call(L, 2, 0);
-    }
-    lua_settop(L, top);
     return 2;
+}
+
+/* The hook's plain render (lua_hook.c). */
+static int render_plain(lua_State *L)
+{
+    lc_render_options o;
+    int show;
+    ud_scene *u = render_args(L, &o, &show, 1);
+    return render_work(L, u, &o, show, 1);
+}
+
+/* scene:render{width = , height = , samples = , ...}: img, stats. */
+static int w_scene_render(lua_State *L)
+{
+    lc_render_options o;
+    int show;
+    ud_scene *u = render_args(L, &o, &show, 0);
+    int n = hook_call(L, "render", render_plain, 2);
+    return n >= 0 ? n : render_work(L, u, &o, show, 0);
 }
 
 void render_register(lua_State *L)

@@ -56,6 +56,7 @@ void explain_register(lua_State *L);   /* lua_explain.c, with ray trees */
 void image_register(lua_State *L);     /* lua_image.c */
 void motion_register(lua_State *L);    /* lua_motion.c: transforms and groups */
 void scene_objects_register(lua_State *L); /* lua_scene_objects.c: objects, remove */
+void hook_register(lua_State *L);      /* lua_hook.c: set_host_hook */
 
 /* lua_scene.c: the scene userdata at idx, raising when it is not one or is freed. */
 ud_scene *scene_check(lua_State *L, int idx);
@@ -67,7 +68,18 @@ ud_scene *scene_check(lua_State *L, int idx);
                        "frame", "sampler", "light_samples", "cone_samples", "max_depth", \
                        "noise", "min_samples", "glossy"
 void render_read_options(lua_State *L, int arg, lc_render_options *o);
-void render_apply_overrides(lua_State *L, lc_render_options *o);
+
+/* lua_hook.c: the host hook (lancer.set_host_hook; the comment there says
+** what it sees). hook_call calls it for `method`, with `plain` (the method
+** without the hook) and the nargs checked arguments at 1..nargs, and
+** returns the count of its results on top; -1 when no hook is set.
+** hook_fail raises msg (with arg > 0 as luaL_argerror's detail): here, or
+** with plain set as the plain call's error object, which the method re-raises
+** from the script's call. hook_raise does the same for a core error, naming
+** its field as lf_raise does. */
+int hook_call(lua_State *L, const char *method, lua_CFunction plain, int nargs);
+int hook_fail(lua_State *L, int plain, int arg, const char *msg);
+int hook_raise(lua_State *L, int plain, int arg, const lc_error *err);
 
 /* lua_motion.c: obj:moved(T) for shapes, lights, meshes and groups. */
 int motion_moved(lua_State *L);

@@ -11,7 +11,7 @@
 #define ACCURACY_KNOBS 8                 /* --knob options one run takes */
 #define HISTORY_FILE   ".lancer_history" /* the REPL's, under $HOME */
 
-/* The animation options: lancer.animate reads them from lancer.overrides. */
+/* The animation options: lancer.host hands them to lancer.anim. */
 struct anim_opts {
     const char **frames;    /* --frames and --frame lists, checked; nframes of them */
     int nframes;

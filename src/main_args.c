@@ -103,6 +103,24 @@ static int parse_positive(const char *s, lua_Integer *out)
     return v > 0;
 }
 
+/* Whether the core takes v as the render option `name` (width, height or
+** samples), so that a value no render can use stops the command here. */
+static int render_option_ok(const char *name, lua_Integer v)
+{
+    lc_render_options o = lc_render_options_default();
+    lc_error err;
+    int *field = strcmp(name, "--width") == 0 ? &o.width
+               : strcmp(name, "--height") == 0 ? &o.height
+               : strcmp(name, "--samples") == 0 ? &o.samples : NULL;
+    if (!field)
+        return 1;
+    *field = (int)v;
+    if (lc_render_options_check(&o, &err) == LC_OK)
+        return 1;
+    fprintf(stderr, "lancer: option '%s': %s; try 'lancer --help'\n", name, err.msg);
+    return 0;
+}
+
 /* Handles one "--width W" or "--width=W"; *i moves past the value. */
 static int parse_size(struct cmdline *cl, int *i, const char *name, lua_Integer *out)
 {
@@ -121,7 +139,7 @@ static int parse_size(struct cmdline *cl, int *i, const char *name, lua_Integer 
                 "try 'lancer --help'\n", name, v);
         return PARSE_USAGE;
     }
-    return PARSE_RUN;
+    return render_option_ok(name, *out) ? PARSE_RUN : PARSE_USAGE;
 }
 
 static int is_opt(const char *arg, const char *name)

@@ -6,10 +6,6 @@ local core = require "lancer.core"
 local M = {}
 for k, v in pairs(core) do M[k] = v end
 
--- The command line's --width/--height/--samples land in this one table,
--- which the core reads at render time.
-M.overrides = core.overrides
-
 -- Interpolation for animations (lua/lancer/motion.lua): lancer.lerp,
 -- lancer.smoothstep, lancer.ease.in_out_cubic, lancer.keyframes{...}, ...
 M.motion = require "lancer.motion"

@@ -53,7 +53,7 @@ local function next_path()
   return path
 end
 
--- lancer.overrides.on_render: called by every render made at the prompt.
+-- lancer.host.on_render: called by every render made at the prompt.
 function M.on_render(img, stats)
   if M.preview and not no_preview() then draw(img) end
   if M.save and not anim.busy then       -- animate saves its own frames
@@ -107,7 +107,7 @@ end
 function M.start(tty, terminal_size)
   M.tty = tty
   if terminal_size then M.terminal_size = terminal_size end
-  lancer.overrides.on_render = M.on_render
+  require("lancer.host").on_render = M.on_render
   lancer.repl = M
   _G.lancer = _G.lancer or lancer
   _G.show = _G.show or M.show

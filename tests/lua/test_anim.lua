@@ -212,13 +212,14 @@ local function tiny_scene()
   return s
 end
 
--- Runs lancer.animate with stderr silenced and fresh overrides.
-local function animate(spec, over)
-  local saved_over, saved_err = lancer.overrides, io.stderr
-  lancer.overrides = over or {}
+-- Runs lancer.animate with stderr silenced and these frame options (what
+-- lancer.host gives lancer.anim under the lancer command).
+local function animate(spec, options)
+  local saved_options, saved_err = anim.options, io.stderr
+  anim.options = options or {}
   io.stderr = {write = function() end, flush = function() end}
   local ok, res = pcall(lancer.animate, spec)
-  lancer.overrides, io.stderr = saved_over, saved_err
+  anim.options, io.stderr = saved_options, saved_err
   if not ok then error(res, 0) end
   return res
 end

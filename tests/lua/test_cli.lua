@@ -141,12 +141,41 @@ T.test("require 'lancer' works with no files beside the command", function()
   T.eq(out, "table\t0.1.0\ttable\n", "stdout")
 end)
 
-T.test("--width 32 --height 16 set require('lancer').overrides", function()
-  local out, err, code = T.run(lancer .. " --width 32 --height=16 -e " ..
-    q("local o = require('lancer').overrides; " ..
-      "print(o.width, o.height, o.samples, math.type(o.width))"))
-  check_exit(code, 0, out, err)
-  T.eq(out, "32\t16\tnil\tinteger\n", "stdout")
+T.test("--width, --height and --samples beyond the core's limits exit 2 at once", function()
+  local path = write_temp("error('the script ran')\n")
+  for _, c in ipairs{{"--width 70000", "option '--width': must be in [1, 65536], got 70000"},
+                     {"--height=65537", "option '--height': must be in [1, 65536]"},
+                     {"--samples 2000000", "option '--samples': must be in [1, "}} do
+    local out, err, code = T.run(lancer .. " " .. c[1] .. " " .. path)
+    check_exit(code, 2, out, err)
+    has(err, c[2], c[1])
+    has(err, "try 'lancer --help'", c[1])
+  end
+  os.remove(path)
+end)
+
+-- The script explains a pixel of its 64x48 render: under --width 8
+-- --height 4 it is the pixel of the 8x4 render the command makes, and a
+-- pixel outside that is an error at the script's own line.
+T.test("--width and --height size explain as they size render", function()
+  local scene = [[
+local lancer = require "lancer"
+local s = lancer.scene{camera = lancer.camera{from = {0, 0, -5}, at = {0, 0, 0}}}
+s:add(lancer.sphere{center = {0, 0, 0}, radius = 1})
+]]
+  local path = write_temp(scene .. [[
+local t = s:explain{x = 7, y = 2, width = 64, height = 48}
+print(("%.9f %.9f %.9f"):format(table.unpack(t.direction)))
+s:explain{x = 9, y = 2, width = 64, height = 48}
+]])
+  local out, err, code = T.run(lancer .. " --width 8 --height 4 " .. path)
+  os.remove(path)
+  check_exit(code, 1, out, err)
+  local L = require "lancer"
+  local s = L.scene{camera = L.camera{from = {0, 0, -5}, at = {0, 0, 0}}}
+  local d = s:explain{x = 7, y = 2, width = 8, height = 4}.direction
+  T.eq(out, ("%.9f %.9f %.9f\n"):format(d[1], d[2], d[3]), "the 8x4 render's ray")
+  has(err, path .. ":6: bad argument #1 to 'explain' (field 'x'", "stderr")
 end)
 
 T.test("--width and --height win over what the script renders", function()

@@ -663,15 +663,6 @@ T.test("render: cutoff must be in [0, 1]", function()
                 "'render'", "field 'cutoff'", "got -0.5")
 end)
 
-T.test("lancer.overrides with a bad size is reported at render", function()
-  local s = fixtures().scene
-  lancer.overrides.width = 0
-  local ok, err = pcall(T.check_error, function() s:render{width = 2, height = 2} end,
-                        HERE, "lancer.overrides.width", "got 0")
-  lancer.overrides.width = nil
-  assert(ok, err)
-end)
-
 -- ---- images ----------------------------------------------------------------------
 T.test("img:pixel x out of range names x and the range", function()
   local img = fixtures().img

@@ -1,0 +1,92 @@
+-- lancer.host: the lancer command's policy, kept out of the binding. The
+-- command calls setup(options) once with its parsed command line, which
+-- installs M.hook as the host hook (lancer.set_host_hook, see
+-- src/lua_hook.c); after the script it calls finish() for its exit status.
+-- The hook:
+--   * renders and explains at --width, --height, --samples;
+--   * hands each render to lancer.check (--check) or lancer.accuracy
+--     (--accuracy);
+--   * prints each render's ledger (--stats), and gives each render to
+--     M.on_render (the prompt's preview and save, lua/lancer/repl.lua).
+-- Stock lua5.4 never loads this module: require "lancer" sets no hook.
+local lancer = require "lancer"
+local anim = require "lancer.anim"
+
+-- setup's options: width, height, samples (integers or nil), check, stats,
+-- repl (the prompt follows the script), script (its name, or nil for -e
+-- code), anim ({frames, shard, skip_existing, list_frames, video, output,
+-- first}: the frame options, with the first one given) and accuracy
+-- ({knobs, seeds, out, script}).
+local M = {options = {}}
+
+local function say(msg)
+  io.stderr:write("lancer: ", msg, "; try 'lancer --help'\n")
+  io.stderr:flush()
+end
+
+-- A usage error found while the script runs: the command exits 2 at once.
+function M.usage(msg)
+  say(msg)
+  os.exit(2, true)
+end
+
+-- The options as the script gave them, with the command line's sizes.
+local function sized(opts)
+  local o = M.options
+  if not (o.width or o.height or o.samples) then return opts end
+  local t = {}
+  for k, v in pairs(opts) do t[k] = v end
+  t.width, t.height, t.samples = o.width or t.width, o.height or t.height,
+                                 o.samples or t.samples
+  return t
+end
+
+-- The host hook (src/lua_hook.c): method is "render", "explain" or "save";
+-- what is the options table, or save's path.
+function M.hook(method, plain, self, what, ...)
+  local o = M.options
+  if method == "explain" then return plain(self, sized(what)) end
+  if method == "save" then return plain(self, what, ...) end
+  local img, st
+  if o.check then
+    img, st = require("lancer.check").render(self, sized(what), plain)
+  elseif o.accuracy then
+    img, st = require("lancer.accuracy").render(self, what, plain, o)
+  else
+    img, st = plain(self, sized(what))
+  end
+  if o.stats then require("lancer.ledger").report(st) end
+  if M.on_render then M.on_render(img, st) end
+  return img, st
+end
+
+-- Called by the lancer command before the script: true, or nil and a
+-- one-line usage error.
+function M.setup(options)
+  M.options = options
+  if options.accuracy then
+    local ok, why = require("lancer.accuracy").setup(options.accuracy)
+    if not ok then return nil, why end
+  end
+  if options.anim then
+    anim.options, anim.usage = options.anim, M.usage
+  end
+  lancer.set_host_hook(M.hook)
+  return true
+end
+
+-- After the script (before the prompt, if any): the exit status the command
+-- ends with; 0 goes on. --check's verdict is 3 when unstable.
+function M.finish()
+  local o = M.options
+  if o.anim and not o.repl and anim.count == 0 then
+    say(("option '%s' needs a script that calls lancer.animate{...}; %s does not")
+      :format(o.anim.first, o.script or "the code run"))
+    return 2
+  end
+  if o.check and not require("lancer.check").finish() then return 3 end
+  if o.accuracy and not require("lancer.accuracy").finish() then return 1 end
+  return 0
+end
+
+return M
