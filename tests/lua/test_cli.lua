@@ -235,6 +235,20 @@ T.test("REPL: an unfinished statement reads more lines", function()
   assert(out:find("\n10\r?\n20\r?\n30\r?\n"), "no 10, 20, 30 in:\n" .. out)
 end)
 
+-- The README's transcript: s:add(...) over three lines prints the scene.
+T.test("REPL: an expression over several lines prints its value too", function()
+  local home = temp_dir()
+  local out = repl({"s = lancer.scene{}\n",
+                    "s:add(lancer.plane{point = {0, 0, 0}, normal = {0, 1, 0}},\n",
+                    "lancer.sphere{center = {0, 1, 0}, radius = 1},\n",
+                    "lancer.point_light{position = {3, 5, -4}, intensity = 40})\n",
+                    "math.max(1,\n", "2) + 40\n"}, home)
+  os.execute("rm -rf " .. q(home))
+  assert(out:find("\nlancer%.Scene %(2 shapes, 1 lights%)\r?\n"),
+         "no lancer.Scene line after the multi-line s:add in:\n" .. out)
+  assert(out:find("\n42\r?\n"), "no 42 line in:\n" .. out)
+end)
+
 T.test("REPL: history is written and read back next session", function()
   local home = temp_dir()
   repl({"6*7\n"}, home)
