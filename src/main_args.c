@@ -40,7 +40,7 @@ static void print_usage(void)
 "  --samples N   take N samples per pixel, likewise\n"
 "  --stats       print each render's ledger: rays by kind, tests, phases, effects\n"
 "  --check       render each image small at scales 1e-3, 1, 1e3 and moved 1e6\n"
-"                away; host_report differing pixels, NaN and self-hits (exit 3 if\n"
+"                away; report differing pixels, NaN and self-hits (exit 3 if\n"
 "                the scene is numerically unstable)\n"
 "\n"
 "Animations (scripts calling lancer.animate{...}; frames are numbered from 1\n"

@@ -19,6 +19,13 @@ T.test("--help prints usage, examples first, to stdout", function()
   assert(ex and opts and ex < opts, "examples should come before the options")
 end)
 
+-- A search-replace once put C names in the help (host_report).
+T.test("--help reads as prose: --check reports differing pixels", function()
+  local out = T.run(lancer .. " --help")
+  has(out, "away; report differing pixels, NaN and self-hits")
+  assert(not out:find("host_", 1, true), "a C name in --help:\n" .. out)
+end)
+
 T.test("--version prints lancer 0.1.0 and Lua's version", function()
   local out, err, code = T.run(lancer .. " --version")
   check_exit(code, 0, out, err)
