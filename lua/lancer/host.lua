@@ -5,7 +5,8 @@
 -- The hook:
 --   * renders and explains at --width, --height, --samples;
 --   * hands each render to lancer.check (--check) or lancer.accuracy
---     (--accuracy);
+--     (--accuracy), and then writes none of the images the script saves:
+--     its files stay as they were (check and accuracy write their own);
 --   * prints each render's ledger (--stats), and gives each render to
 --     M.on_render (the prompt's preview and save, lua/lancer/repl.lua).
 -- Stock lua5.4 never loads this module: require "lancer" sets no hook.
@@ -46,12 +47,27 @@ end
 function M.hook(method, plain, self, what, ...)
   local o = M.options
   if method == "explain" then return plain(self, sized(what)) end
-  if method == "save" then return plain(self, what, ...) end
+  if method == "save" then
+    if (o.check or o.accuracy) and not M.diverted then
+      local tool = o.check and "check" or "accuracy"
+      io.stderr:write(("%s: not writing %s (--%s writes none of the script's " ..
+                       "images)\n"):format(tool, what, tool))
+      return self
+    end
+    return plain(self, what, ...)
+  end
   local img, st
-  if o.check then
-    img, st = require("lancer.check").render(self, sized(what), plain)
-  elseif o.accuracy then
-    img, st = require("lancer.accuracy").render(self, what, plain, o)
+  if o.check or o.accuracy then
+    -- What check and accuracy save themselves (accuracy's plot) is theirs.
+    M.diverted = true
+    local ok
+    if o.check then
+      ok, img, st = pcall(require("lancer.check").render, self, sized(what), plain)
+    else
+      ok, img, st = pcall(require("lancer.accuracy").render, self, what, plain, o)
+    end
+    M.diverted = false
+    if not ok then error(img, 0) end
   else
     img, st = plain(self, sized(what))
   end
