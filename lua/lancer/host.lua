@@ -8,7 +8,9 @@
 --     (--accuracy), and then writes none of the images the script saves:
 --     its files stay as they were (check and accuracy write their own);
 --   * prints each render's ledger (--stats), and gives each render to
---     M.on_render (the prompt's preview and save, lua/lancer/repl.lua).
+--     M.on_render (the prompt's preview and save, lua/lancer/repl.lua);
+--   * with frame options, refuses renders and saves outside lancer.animate
+--     (a usage error, exit 2) before anything is written.
 -- Stock lua5.4 never loads this module: require "lancer" sets no hook.
 local lancer = require "lancer"
 local anim = require "lancer.anim"
@@ -42,11 +44,24 @@ local function sized(opts)
   return t
 end
 
+-- Frame options select frames of a lancer.animate: an image made outside
+-- one is not what they ask for, so the command stops before making it
+-- (not at the prompt, where renders are the point).
+local function outside_animation(method)
+  local o = M.options
+  if o.anim and not o.repl and not anim.busy then
+    M.usage(("option '%s' needs a script that calls lancer.animate{...}; %s %s " ..
+             "outside one"):format(o.anim.first, o.script or "the code run",
+             method == "save" and "saves an image" or "renders"))
+  end
+end
+
 -- The host hook (src/lua_hook.c): method is "render", "explain" or "save";
 -- what is the options table, or save's path.
 function M.hook(method, plain, self, what, ...)
   local o = M.options
   if method == "explain" then return plain(self, sized(what)) end
+  outside_animation(method)
   if method == "save" then
     if (o.check or o.accuracy) and not M.diverted then
       local tool = o.check and "check" or "accuracy"

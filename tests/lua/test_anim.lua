@@ -131,6 +131,31 @@ T.test("--frames outside the animation, or no animation, exit 2", function()
   rm(dir)
 end)
 
+T.test("frame options on a still script: exit 2 before anything is written", function()
+  local dir = temp_dir()
+  local still, blank = dir .. "/still.lua", dir .. "/blank.lua"
+  write(still, [[
+local lancer = require "lancer"
+local s = lancer.scene{camera = lancer.camera{from = {0, 0, -3}, at = {0, 0, 0}}}
+s:add(lancer.sphere{center = {0, 0, 0}, radius = 1})
+s:render{width = 8, height = 8}:save(arg[1])
+print("rendered")
+]])
+  write(blank, "require('lancer').image{width = 2, height = 2}:save(arg[1])\n")
+  for _, c in ipairs{{"--frame 3", still, "renders"}, {"--list-frames", still, "renders"},
+                     {"--shard 0/2", blank, "saves an image"}} do
+    local out, err, code = T.run(("%s %s %s %s"):format(L, c[1], q(c[2]),
+                                                        q(dir .. "/x.png")))
+    assert(not io.open(dir .. "/x.png"), c[1] .. ": x.png written")
+    T.eq(out, "", c[1] .. ": stdout")
+    check_exit(code, 2, out, err)
+    T.eq(err, ("lancer: option '%s' needs a script that calls lancer.animate{...}; " ..
+               "%s %s outside one; try 'lancer --help'\n"):format(c[1]:match("^%S+"),
+               c[2], c[3]), c[1] .. ": stderr")
+  end
+  rm(dir)
+end)
+
 T.test("one log line per frame; a failed frame fails the run after the others", function()
   local dir, script = setup()
   local out, err, code = T.run(("FAIL=3 %s --frames 2-5 %s %s"):format(L, q(script),
