@@ -211,7 +211,7 @@ static void push_anim_options(lua_State *L, const struct anim_opts *an)
     if (an->nframes > 0) {
         lua_newtable(L);
         for (k = 0; k < an->nframes; k++)
-            args_frame_list(an->frames[k], L);
+            args_frame_list(an->frames[k], an->frame_flags[k], L);
         lua_setfield(L, -2, "frames");
     }
     if (an->shard_n > 0) {
@@ -382,10 +382,12 @@ int main(int argc, char **argv)
     }
     cl.chunks = malloc((size_t)argc * sizeof *cl.chunks);
     cl.anim.frames = malloc((size_t)argc * sizeof *cl.anim.frames);
-    if (cl.chunks == NULL || cl.anim.frames == NULL) {
+    cl.anim.frame_flags = malloc((size_t)argc * sizeof *cl.anim.frame_flags);
+    if (cl.chunks == NULL || cl.anim.frames == NULL || cl.anim.frame_flags == NULL) {
         fprintf(stderr, "lancer: not enough memory\n");
         free(cl.chunks);
         free(cl.anim.frames);
+        free(cl.anim.frame_flags);
         return 1;
     }
     parsed = args_parse(&cl);
@@ -394,6 +396,7 @@ int main(int argc, char **argv)
     if (parsed != PARSE_RUN) {
         free(cl.chunks);
         free(cl.anim.frames);
+        free(cl.anim.frame_flags);
         return parsed == PARSE_DONE ? 0 : 2;
     }
 
@@ -402,6 +405,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "lancer: cannot create the Lua state: not enough memory\n");
         free(cl.chunks);
         free(cl.anim.frames);
+        free(cl.anim.frame_flags);
         return 1;
     }
     lua_gc(L, LUA_GCSTOP);              /* no collection while building state */
@@ -413,6 +417,7 @@ int main(int argc, char **argv)
     lua_close(L);
     free(cl.chunks);
     free(cl.anim.frames);
+    free(cl.anim.frame_flags);
     if (cl.unstable)
         return 3;
     if (cl.late_usage)

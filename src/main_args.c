@@ -170,9 +170,9 @@ static int frame_number(const char **s, long *out)
 }
 
 /* Reads a --frames list: items N, A-B or A-B:S separated by commas. With L,
-** appends each item as {A, B, S} to the table on top of L's stack. Returns
-** NULL, or why the list is wrong. */
-const char *args_frame_list(const char *s, lua_State *L)
+** appends each item as {A, B, S, option = flag} to the table on top of L's
+** stack. Returns NULL, or why the list is wrong. */
+const char *args_frame_list(const char *s, const char *flag, lua_State *L)
 {
     do {
         long a, b, step = 1;
@@ -195,6 +195,8 @@ const char *args_frame_list(const char *s, lua_State *L)
             lua_rawseti(L, -2, 2);
             lua_pushinteger(L, step);
             lua_rawseti(L, -2, 3);
+            lua_pushstring(L, flag);
+            lua_setfield(L, -2, "option");
             lua_rawseti(L, -2, (lua_Integer)luaL_len(L, -2) + 1);
         }
     } while (*s++ == ',');
@@ -250,13 +252,14 @@ static int parse_anim_option(struct cmdline *cl, int *i, int *st)
         return 1;
     }
     if (strcmp(name, "--frames") == 0 || strcmp(name, "--frame") == 0) {
-        if ((why = args_frame_list(v, NULL)) != NULL) {
+        if ((why = args_frame_list(v, name, NULL)) != NULL) {
             fprintf(stderr, "lancer: option '%s' needs frames like 7, 1-48, 1-48:2 or "
                     "1,5,9-12, got '%s' (%s); try 'lancer --help'\n", name, v, why);
             *st = PARSE_USAGE;
         } else if (strcmp(name, "--frame") == 0 && strpbrk(v, ",-:")) {
             *st = bad_value(name, "one frame number (--frames takes lists)", v);
         } else {
+            an->frame_flags[an->nframes] = name;
             an->frames[an->nframes++] = v;
         }
     } else if (strcmp(name, "--shard") == 0) {

@@ -10,8 +10,8 @@
 -- whole range, not from the frames selected.
 local M = {count = 0, busy = false}   -- lancer.animate calls; in one now
 
--- What the command line selected: frames ({first, last, step} triples),
--- shard ({K, N}), skip_existing,
+-- What the command line selected: frames ({first, last, step, option}
+-- triples, option naming the flag given), shard ({K, N}), skip_existing,
 -- list_frames, video, output. lancer.host sets it for the lancer command;
 -- elsewhere it is empty and every frame is rendered.
 M.options = {}
@@ -160,8 +160,9 @@ function M.select(a, over)
     for _, r in ipairs(over.frames) do
       local lo, hi, step = r[1], r[2], r[3] or 1
       if lo < a.first or hi > a.last then
-        usage(("option '--frames': %s is outside the animation's frames %d-%d"):format(
-          lo == hi and ("frame " .. lo) or ("%d-%d"):format(lo, hi), a.first, a.last))
+        usage(("option '%s': %s is outside the animation's frames %d-%d"):format(
+          r.option or "--frames", lo == hi and ("frame " .. lo) or ("%d-%d"):format(lo, hi),
+          a.first, a.last))
       end
       for n = lo, hi, step do chosen[n] = true end
     end

@@ -122,6 +122,12 @@ T.test("--frames outside the animation, or no animation, exit 2", function()
   check_exit(code, 2, out, err)
   T.eq(err, "lancer: option '--frames': 10-14 is outside the animation's frames 1-12; " ..
        "try 'lancer --help'\n", "stderr")
+  -- named as typed: --frame, not --frames
+  out, err, code = T.run(("%s --frames 2 --frame 30 %s %s"):format(L, q(script),
+    q(dir .. "/f_%04d.png")))
+  check_exit(code, 2, out, err)
+  T.eq(err, "lancer: option '--frame': frame 30 is outside the animation's frames 1-12; " ..
+       "try 'lancer --help'\n", "stderr for --frame 30")
   local plain = dir .. "/plain.lua"
   write(plain, "print('no animation here')\n")
   out, err, code = T.run(("%s --shard 0/2 %s"):format(L, q(plain)))
