@@ -5,6 +5,13 @@ local core = require "lancer.core"
 
 local M = {}
 for k, v in pairs(core) do M[k] = v end
+-- A traceback names a C function after the first loaded module holding it,
+-- and package.loaded's order changes from run to run: with the functions in
+-- both lancer and lancer.core, one error read 'lancer.sphere' in one run
+-- and 'lancer.core.sphere' in the next. They live here alone, the name
+-- people call; lancer.core is left a view of this module.
+for k in pairs(M) do core[k] = nil end
+setmetatable(core, {__index = M})
 
 -- Interpolation for animations (lua/lancer/motion.lua): lancer.lerp,
 -- lancer.smoothstep, lancer.ease.in_out_cubic, lancer.keyframes{...}, ...
