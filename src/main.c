@@ -287,6 +287,7 @@ static int host_setup(lua_State *L)
     set_boolean(L, "check", cl->check);
     set_boolean(L, "stats", cl->stats);
     set_boolean(L, "repl", repl);
+    set_boolean(L, "code", cl->nchunks > 0);
     if (cl->script > 0) {
         lua_pushstring(L, cl->script_stdin ? "stdin" : cl->argv[cl->script]);
         lua_setfield(L, -2, "script");

@@ -16,8 +16,8 @@ local lancer = require "lancer"
 local anim = require "lancer.anim"
 
 -- setup's options: width, height, samples (integers or nil), check, stats,
--- repl (the prompt follows the script), script (its name, or nil for -e
--- code), anim ({frames, shard, skip_existing, list_frames, video, output,
+-- repl (the prompt follows the script), code (-e code is run), script (its
+-- name, or nil for -e code), anim ({frames, shard, skip_existing, list_frames, video, output,
 -- first}: the frame options, with the first one given) and accuracy
 -- ({knobs, seeds, out, script}).
 local M = {options = {}}
@@ -103,6 +103,7 @@ function M.setup(options)
     anim.options, anim.usage = options.anim, M.usage
   end
   lancer.set_host_hook(M.hook)
+  if options.code then _G.lancer = _G.lancer or lancer end   -- as at the prompt
   return true
 end
 

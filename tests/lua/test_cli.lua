@@ -74,6 +74,13 @@ T.test("-e runs a string, and may be repeated before a script", function()
   T.eq(out, "42\n", "stdout")
 end)
 
+T.test("-e code finds lancer loaded, as the prompt does", function()
+  local out, err, code = T.run(lancer .. " -e " .. q("print(lancer.version, " ..
+    "lancer == require 'lancer')"))
+  check_exit(code, 0, out, err)
+  T.eq(out, "0.1.0\ttrue\n", "stdout")
+end)
+
 T.test("a runtime error exits 1 with script:LINE: and a traceback", function()
   local path = write_temp("local x = 1\nerror('boom')\n")
   local out, err, code = T.run(lancer .. " " .. path)
