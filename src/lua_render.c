@@ -57,6 +57,10 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
         lua_setfield(L, -2, lc_need_name(1u << k));
     }
     lua_setfield(L, -2, "why");
+    if (st->warning[0]) {
+        lua_pushstring(L, st->warning);
+        lua_setfield(L, -2, "warning");
+    }
 }
 
 static const char *const sampler_opts[] = {"sobol", "jitter", "random", NULL};
@@ -158,14 +162,25 @@ static int render_plain(lua_State *L)
     return render_work(L, u, &o, show, 1);
 }
 
-/* scene:render{width = , height = , samples = , ...}: img, stats. */
+/* scene:render{width = , height = , samples = , ...}: img, stats. The
+** warning in the statistics it returns (the hook's, when one is set: once
+** for each render the script asked for) goes to stderr on one line. */
 static int w_scene_render(lua_State *L)
 {
     lc_render_options o;
     int show;
     ud_scene *u = render_args(L, &o, &show, 0);
     int n = hook_call(L, "render", render_plain, 2);
-    return n >= 0 ? n : render_work(L, u, &o, show, 0);
+    if (n < 0)
+        n = render_work(L, u, &o, show, 0);
+    if (n >= 2 && lua_type(L, -n + 1) == LUA_TTABLE) {
+        if (lua_getfield(L, -n + 1, "warning") == LUA_TSTRING) {
+            fprintf(stderr, "lancer: warning: %s\n", lua_tostring(L, -1));
+            fflush(stderr);
+        }
+        lua_pop(L, 1);
+    }
+    return n;
 }
 
 void render_register(lua_State *L)

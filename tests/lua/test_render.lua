@@ -205,3 +205,59 @@ T.test("set_host_hook: a hook that raises refuses the call; nil takes it away", 
   T.check_error(function() lancer.set_host_hook(5) end, HERE, "'set_host_hook'",
                 "function expected, got number")
 end)
+
+-- ---- warnings ------------------------------------------------------------------
+
+local function warning_scene(kind)
+  local s = lancer.scene{camera = lancer.camera{from = {0, 0, -4}, at = {0, 0, 0}}}
+  local black = lancer.material{color = {0, 0, 0}}
+  s:add(lancer.sphere{center = {0, 0, 0}, radius = 2,
+                      material = kind == "black" and black or nil})
+  if kind ~= "dark" then s:add(lancer.point_light{position = {2, 4, -3}, intensity = 25}) end
+  return s
+end
+
+T.test("stats.warning: no light at all, or every pixel black; nil when fine", function()
+  local _, st = warning_scene("dark"):render{width = 4, height = 4}
+  assert(st.warning and st.warning:find("^the scene has no light"), tostring(st.warning))
+  _, st = warning_scene("black"):render{width = 4, height = 4}
+  assert(st.warning and st.warning:find("^every pixel is black"), tostring(st.warning))
+  _, st = warning_scene("lit"):render{width = 4, height = 4}
+  T.eq(st.warning, nil, "a lit scene's warning")
+end)
+
+-- One line on stderr per render, from the binding (lua5.4) as from the
+-- command (through its host hook, --check's four renders included).
+T.test("a render's warning is one line on stderr, not an error", function()
+  local script = os.tmpname() .. ".lua"
+  T.write(script, ([[
+local lancer = require "lancer"
+local s = lancer.scene{camera = lancer.camera{from = {0, 0, -4}, at = {0, 0, 0}}}
+s:add(lancer.sphere{center = {0, 0, 0}, radius = 2, material = %s})
+if arg[1] ~= "dark" then
+  s:add(lancer.point_light{position = {2, 4, -3}, intensity = 25})
+end
+s:render{width = 4, height = 4}
+print("went on")
+]]):format("arg[1] == 'black' and lancer.material{color = {0, 0, 0}} or nil"))
+  local want = {
+    dark = "lancer: warning: the scene has no light (no point light, no emissive " ..
+           "shape, no ambient light): only the background shows\n",
+    black = "lancer: warning: every pixel is black: the lights reach nothing the " ..
+            "camera sees (check the camera, the lights' positions and intensities, " ..
+            "and the colours)\n",
+    lit = "",
+  }
+  for _, cmd in ipairs{"lua5.4 " .. T.quote(script), T.quote(T.lancer) .. " " ..
+                       T.quote(script), T.quote(T.lancer) .. " --check " ..
+                       T.quote(script)} do
+    for kind, line in pairs(want) do
+      local out, err, code = T.run(cmd .. " " .. kind)
+      T.check_exit(code, 0, out, err)
+      T.eq(out, "went on\n", cmd .. " " .. kind .. ": stdout")
+      err = err:gsub("check: [^\n]*\n", ""):gsub("  %S+ %S+ +[^\n]*\n", "")
+      T.eq(err, line, cmd .. " " .. kind .. ": stderr")
+    end
+  end
+  os.remove(script)
+end)
