@@ -54,6 +54,20 @@ static size_t distance(const char *a, const char *b)
     return d[la][lb];
 }
 
+const char *lf_closest(const char *word, const char *const known[])
+{
+    const char *best = NULL;
+    size_t bd = 3;                        /* at most two edits away */
+    for (int i = 0; known[i]; i++) {
+        size_t d = distance(word, known[i]);
+        if (d < bd) {
+            bd = d;
+            best = known[i];
+        }
+    }
+    return best;
+}
+
 void lf_open(lua_State *L, int arg, const char *const known[])
 {
     if (lua_type(L, arg) != LUA_TTABLE) {
@@ -82,15 +96,7 @@ void lf_open(lua_State *L, int arg, const char *const known[])
     }
     if (!bad)
         return;
-    const char *best = NULL;
-    size_t bd = 3;
-    for (int i = 0; known[i]; i++) {
-        size_t d = distance(bad, known[i]);
-        if (d < bd) {
-            bd = d;
-            best = known[i];
-        }
-    }
+    const char *best = lf_closest(bad, known);
     if (best)
         lua_pushfstring(L, "unknown field '%s'; did you mean '%s'?", bad, best);
     else {

@@ -10,6 +10,11 @@
 ** (NULL-terminated); raises "unknown field 'x'; did you mean 'y'?" otherwise. */
 void lf_open(lua_State *L, int arg, const char *const known[]);
 
+/* The name in `known` (NULL-terminated) at most two edits from word (a
+** swap of neighbours is one), for did-you-mean hints; NULL when none is.
+** The lancer command's options use it too. */
+const char *lf_closest(const char *word, const char *const known[]);
+
 /* Raises "bad argument #arg to 'fn' (field 'name': <detail>)". */
 int lf_error(lua_State *L, int arg, const char *field, const char *fmt, ...);
 

@@ -6,6 +6,7 @@
 #include <lauxlib.h>
 #include <lua.h>
 
+#include "lua_fields.h"
 #include "main.h"
 
 static void print_usage(void)
@@ -30,7 +31,9 @@ static void print_usage(void)
 "                                error against time over those levels\n"
 "  lancer                        the interactive prompt\n"
 "\n"
-"Options (before the script; arguments after it go to the script):\n"
+"Options go before the script: whatever follows it is the script's, as with\n"
+"lua5.4, so 'lancer scene.lua out.png --width 100' hands --width to the script\n"
+"(lancer notes it on stderr).\n"
 "  -e CODE       run the Lua string CODE, with lancer loaded (may be repeated)\n"
 "  -i            enter the interactive prompt after the script\n"
 "  -             read the script from standard input\n"
@@ -77,6 +80,50 @@ static void print_usage(void)
 "~/" HISTORY_FILE ". Ctrl-C interrupts running code or a render, Ctrl-D quits.\n"
 "\n"
 "Exit status: 0 success, 1 script error, 2 usage error, 3 unstable (--check).\n", stdout);
+}
+
+/* The long options, for did-you-mean hints and for noticing one placed
+** after the script. */
+static const char *const long_options[] = {
+    "--width", "--height", "--samples", "--stats", "--check", "--frames", "--frame",
+    "--shard", "--skip-existing", "--list-frames", "--video", "--output",
+    "--accuracy", "--knob", "--seeds", "--out", "--help", "--version", NULL};
+
+/* argv's word without its "=value". */
+static void option_name(const char *arg, char *out, size_t n)
+{
+    size_t len = strcspn(arg, "=");
+    if (len >= n)
+        len = n - 1;
+    memcpy(out, arg, len);
+    out[len] = '\0';
+}
+
+static int unknown_option(const char *arg)
+{
+    char name[64];
+    option_name(arg, name, sizeof name);
+    const char *hint = strncmp(name, "--", 2) == 0 ? lf_closest(name, long_options) : NULL;
+    if (!hint)
+        return args_usage_error("unknown option '%s'", arg);
+    fprintf(stderr, "lancer: unknown option '%s'; did you mean '%s'?\n", name, hint);
+    return PARSE_USAGE;
+}
+
+/* Arguments after the script are the script's (Lua's convention); one
+** that is a lancer option was likely meant for lancer: say so, once. */
+static void note_late_options(char **argv, int script)
+{
+    for (int i = script + 1; argv[i] != NULL; i++) {
+        char name[64];
+        option_name(argv[i], name, sizeof name);
+        for (int k = 0; long_options[k]; k++)
+            if (strcmp(name, long_options[k]) == 0) {
+                fprintf(stderr, "lancer: note: '%s' comes after the script, so the "
+                        "script gets it; put options before the script\n", name);
+                return;
+            }
+    }
 }
 
 int args_usage_error(const char *fmt, const char *what)
@@ -339,13 +386,17 @@ int args_parse(struct cmdline *cl)
         int st = PARSE_RUN;
         if (a[0] != '-') {                       /* the script */
             cl->script = i;
+            note_late_options(argv, i);
             return PARSE_RUN;
         } else if (strcmp(a, "-") == 0) {
             cl->script = i;
             cl->script_stdin = 1;
+            note_late_options(argv, i);
             return PARSE_RUN;
         } else if (strcmp(a, "--") == 0) {
             cl->script = argv[i + 1] ? i + 1 : 0;
+            if (cl->script)
+                note_late_options(argv, cl->script);
             return PARSE_RUN;
         } else if (strcmp(a, "--help") == 0) {
             print_usage();
@@ -381,7 +432,7 @@ int args_parse(struct cmdline *cl)
         } else if (is_opt(a, "--seeds")) {
             st = parse_size(cl, &i, "--seeds", &cl->seeds);
         } else {
-            return args_usage_error("unknown option '%s'", a);
+            return unknown_option(a);
         }
         if (st != PARSE_RUN)
             return st;

@@ -130,6 +130,34 @@ T.test("an unknown option exits 2 naming it, on one line", function()
   T.eq(out, "", "stdout")
 end)
 
+T.test("a misspelt option gets a did-you-mean hint, exit 2", function()
+  for _, c in ipairs{{"--widht 100", "--widht", "--width"},
+                     {"--sample=4", "--sample", "--samples"},
+                     {"--frmes 1-3", "--frmes", "--frames"},
+                     {"--chek", "--chek", "--check"}} do
+    local out, err, code = T.run(lancer .. " " .. c[1] .. " x.lua")
+    check_exit(code, 2, out, err)
+    T.eq(err, ("lancer: unknown option '%s'; did you mean '%s'?\n"):format(c[2], c[3]),
+         c[1] .. ": stderr")
+  end
+end)
+
+-- Lua's convention: what follows the script is the script's, options too.
+T.test("an option after the script goes to it, with a note on stderr", function()
+  local path = write_temp("print(select('#', ...), ...)\n")
+  local out, err, code = T.run(lancer .. " " .. path .. " out.png --width 100 --stats")
+  check_exit(code, 0, out, err)
+  T.eq(out, "4\tout.png\t--width\t100\t--stats\n", "the script's arguments")
+  T.eq(err, "lancer: note: '--width' comes after the script, so the script gets it; " ..
+       "put options before the script\n", "stderr")
+  out, err, code = T.run(lancer .. " " .. path .. " --verbose -x out.png")
+  os.remove(path)
+  check_exit(code, 0, out, err)
+  T.eq(err, "", "no note for what is no lancer option")
+  out = T.run(lancer .. " --help")
+  has(out, "lancer scene.lua out.png --width 100", "--help")
+end)
+
 T.test("bad or missing option values exit 2 naming the flag", function()
   for _, c in ipairs{
     {"--width 0", "--width"}, {"--height abc", "--height"},
