@@ -190,5 +190,5 @@ void explain_register(lua_State *L)
     lua_getfield(L, -1, "methods");
     luaL_setfuncs(L, methods, 0);
     lua_pop(L, 2);
-    binding_class(L, RAYTREE, raytree_meta, NULL);
+    lancer_class(L, RAYTREE, raytree_meta, NULL);
 }

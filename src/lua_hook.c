@@ -98,7 +98,7 @@ void hook_register(lua_State *L)
 {
     static const luaL_Reg error_meta[] = {
         {"__tostring", w_plain_error_tostring}, {NULL, NULL}};
-    binding_class(L, PLAIN_ERROR, error_meta, NULL);
+    lancer_class(L, PLAIN_ERROR, error_meta, NULL);
     lua_pushcfunction(L, w_set_host_hook);
     lua_setfield(L, -2, "set_host_hook");
 }

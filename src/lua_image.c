@@ -243,7 +243,7 @@ void image_register(lua_State *L)
         {"save", w_image_save}, {"pixel", w_image_pixel}, {"diff", w_image_diff},
         {"nonfinite", w_image_nonfinite}, {"set", w_image_set}, {"error", w_image_error},
         {"add", w_image_add}, {NULL, NULL}};
-    binding_class(L, IMAGE, image_meta, image_methods);
+    lancer_class(L, IMAGE, image_meta, image_methods);
     lua_pushcfunction(L, w_load_png);
     lua_setfield(L, -2, "load_png");
     lua_pushcfunction(L, w_image);

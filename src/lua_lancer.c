@@ -6,8 +6,8 @@
 #include "lua_lancer.h"
 #include "lua_types.h"
 
-void binding_class(lua_State *L, const char *name, const luaL_Reg *meta,
-                   const luaL_Reg *methods)
+void lancer_class(lua_State *L, const char *name, const luaL_Reg *meta,
+                  const luaL_Reg *methods)
 {
     luaL_newmetatable(L, name);
     luaL_setfuncs(L, meta, 0);

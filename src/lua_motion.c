@@ -371,11 +371,11 @@ void motion_register(lua_State *L)
     static const luaL_Reg funcs[] = {
         {"translate", w_translate}, {"rotate", w_rotate}, {"scale", w_scale},
         {"transform", w_transform}, {"group", w_group}, {NULL, NULL}};
-    binding_class(L, TRANSFORM, transform_meta, transform_methods);
+    lancer_class(L, TRANSFORM, transform_meta, transform_methods);
     luaL_getmetatable(L, TRANSFORM);              /* methods straight from __index */
     lua_getfield(L, -1, "methods");
     lua_setfield(L, -2, "__index");
     lua_pop(L, 1);
-    binding_class(L, GROUP, group_meta, NULL);
+    lancer_class(L, GROUP, group_meta, NULL);
     luaL_setfuncs(L, funcs, 0);
 }

@@ -218,8 +218,8 @@ void objects_register(lua_State *L)
     static const luaL_Reg funcs[] = {
         {"material", w_material}, {"point_light", w_point_light}, {"camera", w_camera},
         {NULL, NULL}};
-    binding_class(L, MATERIAL, material_meta, NULL);
-    binding_class(L, LIGHT, light_meta, NULL);
-    binding_class(L, CAMERA, camera_meta, NULL);
+    lancer_class(L, MATERIAL, material_meta, NULL);
+    lancer_class(L, LIGHT, light_meta, NULL);
+    lancer_class(L, CAMERA, camera_meta, NULL);
     luaL_setfuncs(L, funcs, 0);
 }

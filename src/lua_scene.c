@@ -411,7 +411,7 @@ void scene_register(lua_State *L)
     static const luaL_Reg scene_methods[] = {
         {"add", w_scene_add}, {"count", w_scene_count},
         {"transformed", w_scene_transformed}, {NULL, NULL}};
-    binding_class(L, SCENE, scene_meta, scene_methods);
+    lancer_class(L, SCENE, scene_meta, scene_methods);
     lua_pushcfunction(L, w_scene);
     lua_setfield(L, -2, "scene");
 }

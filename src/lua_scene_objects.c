@@ -197,5 +197,5 @@ void scene_objects_register(lua_State *L)
     lua_getfield(L, -1, "methods");
     luaL_setfuncs(L, methods, 0);
     lua_pop(L, 2);
-    binding_class(L, ENTRY, entry_meta, NULL);
+    lancer_class(L, ENTRY, entry_meta, NULL);
 }

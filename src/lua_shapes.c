@@ -210,6 +210,6 @@ void shapes_register(lua_State *L)
     static const luaL_Reg funcs[] = {
         {"sphere", w_sphere}, {"quad", w_quad}, {"box", w_box}, {"plane", w_plane},
         {NULL, NULL}};
-    binding_class(L, SHAPE, shape_meta, NULL);
+    lancer_class(L, SHAPE, shape_meta, NULL);
     luaL_setfuncs(L, funcs, 0);
 }

@@ -42,8 +42,8 @@ enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4 };
 
 /* A metatable `name` with the metamethods `meta` and, when given, methods
 ** that its __index looks up under "methods". */
-void binding_class(lua_State *L, const char *name, const luaL_Reg *meta,
-                   const luaL_Reg *methods);
+void lancer_class(lua_State *L, const char *name, const luaL_Reg *meta,
+                  const luaL_Reg *methods);
 
 /* Each file registers its metatables and sets its constructors in the module
 ** table at the top of the stack. */

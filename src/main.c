@@ -16,12 +16,12 @@
 
 /* The pure-Lua modules, embedded by tools/embed-lua.sh (NULL-name ended), so
 ** the command runs from anywhere with no lua/ directory beside it. */
-struct lc_embedded_lua {
+struct embedded_lua {
     const char *name;
     const unsigned char *data;
     size_t len;
 };
-extern const struct lc_embedded_lua lc_embedded_lua[];
+extern const struct embedded_lua embedded_lua[];
 
 const char *host_progname = "lancer";
 static lua_State *globalL;              /* the state Ctrl-C interrupts */
@@ -159,7 +159,7 @@ static int handle_script(lua_State *L, const struct cmdline *cl)
 ** first require, so a broken module fails there and not at every start. */
 static int load_embedded(lua_State *L)
 {
-    const struct lc_embedded_lua *m = lua_touserdata(L, lua_upvalueindex(1));
+    const struct embedded_lua *m = lua_touserdata(L, lua_upvalueindex(1));
     const char *path;
     /* tools/embed-lua.sh names lua/lancer/init.lua "lancer" and
     ** lua/lancer/x.lua "lancer.x"; name the chunk after the file. */
@@ -178,11 +178,11 @@ static int load_embedded(lua_State *L)
 
 static void register_modules(lua_State *L)
 {
-    const struct lc_embedded_lua *m;
+    const struct embedded_lua *m;
     luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_PRELOAD_TABLE);
     lua_pushcfunction(L, luaopen_lancer_core);
     lua_setfield(L, -2, "lancer.core");
-    for (m = lc_embedded_lua; m->name != NULL; m++) {
+    for (m = embedded_lua; m->name != NULL; m++) {
         lua_pushlightuserdata(L, (void *)m);
         lua_pushcclosure(L, load_embedded, 1);
         lua_setfield(L, -2, m->name);
