@@ -103,7 +103,9 @@ static int unknown_option(const char *arg)
 {
     char name[64];
     option_name(arg, name, sizeof name);
-    const char *hint = strncmp(name, "--", 2) == 0 ? lf_closest(name, long_options) : NULL;
+    const char *hint = NULL;
+    if (strncmp(name, "--", 2) == 0)           /* '-x' is not one letter from '-e' */
+        hint = lf_closest(name, long_options);
     if (!hint)
         return args_usage_error("unknown option '%s'", arg);
     fprintf(stderr, "lancer: unknown option '%s'; did you mean '%s'?\n", name, hint);

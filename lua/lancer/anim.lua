@@ -160,9 +160,9 @@ function M.select(a, over)
     for _, r in ipairs(over.frames) do
       local lo, hi, step = r[1], r[2], r[3] or 1
       if lo < a.first or hi > a.last then
+        local which = lo == hi and ("frame " .. lo) or ("%d-%d"):format(lo, hi)
         usage(("option '%s': %s is outside the animation's frames %d-%d"):format(
-          r.option or "--frames", lo == hi and ("frame " .. lo) or ("%d-%d"):format(lo, hi),
-          a.first, a.last))
+          r.option or "--frames", which, a.first, a.last))
       end
       for n = lo, hi, step do chosen[n] = true end
     end

@@ -17,9 +17,9 @@ local anim = require "lancer.anim"
 
 -- setup's options: width, height, samples (integers or nil), check, stats,
 -- repl (the prompt follows the script), code (-e code is run), script (its
--- name, or nil for -e code), anim ({frames, shard, skip_existing, list_frames, video, output,
--- first}: the frame options, with the first one given) and accuracy
--- ({knobs, seeds, out, script}).
+-- name, or nil for -e code), anim (the frame options, as lancer.anim.options
+-- reads them, plus first: the first frame option given) and accuracy
+-- ({knobs, seeds, out, script}, for lancer.accuracy.setup).
 local M = {options = {}}
 
 local function say(msg)

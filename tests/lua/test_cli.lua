@@ -94,7 +94,8 @@ end)
 -- Lua names a C function in a traceback by the first loaded module table
 -- that holds it, in an order that changes from run to run.
 T.test("a traceback names the constructor 'lancer.sphere' in every run", function()
-  local path = write_temp("local lancer = require 'lancer'\nlancer.sphere{radius = -1}\n")
+  local path = write_temp("local lancer = require 'lancer'\n" ..
+                          "lancer.sphere{radius = -1}\n")
   local names = {}
   for _ = 1, 12 do
     local out, err, code = T.run(lancer .. " " .. path)
@@ -202,7 +203,7 @@ end)
 
 T.test("--width, --height and --samples beyond the core's limits exit 2 at once", function()
   local path = write_temp("error('the script ran')\n")
-  for _, c in ipairs{{"--width 70000", "option '--width': must be in [1, 65536], got 70000"},
+  for _, c in ipairs{{"--width 70000", "'--width': must be in [1, 65536], got 70000"},
                      {"--height=65537", "option '--height': must be in [1, 65536]"},
                      {"--samples 2000000", "option '--samples': must be in [1, "}} do
     local out, err, code = T.run(lancer .. " " .. c[1] .. " " .. path)

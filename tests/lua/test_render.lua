@@ -213,7 +213,9 @@ local function warning_scene(kind)
   local black = lancer.material{color = {0, 0, 0}}
   s:add(lancer.sphere{center = {0, 0, 0}, radius = 2,
                       material = kind == "black" and black or nil})
-  if kind ~= "dark" then s:add(lancer.point_light{position = {2, 4, -3}, intensity = 25}) end
+  if kind ~= "dark" then
+    s:add(lancer.point_light{position = {2, 4, -3}, intensity = 25})
+  end
   return s
 end
 
