@@ -91,22 +91,25 @@ T.test("a runtime error exits 1 with script:LINE: and a traceback", function()
   T.eq(out, "", "stdout")
 end)
 
--- Lua names a C function in a traceback by the first loaded module table
--- that holds it, in an order that changes from run to run.
-T.test("a traceback names the constructor 'lancer.sphere' in every run", function()
-  local path = write_temp("local lancer = require 'lancer'\n" ..
-                          "lancer.sphere{radius = -1}\n")
+-- Lua names a function in a traceback after the first loaded module table
+-- holding it, in an order that changes from run to run.
+T.test("a traceback names 'lancer.sphere', 'lancer.lerp' in every run", function()
   local names = {}
-  for _ = 1, 12 do
-    local out, err, code = T.run(lancer .. " " .. path)
-    check_exit(code, 1, out, err)
-    names[err:match("in function '([%w_.]+)'") or "none"] = true
+  for _, call in ipairs{"lancer.sphere{radius = -1}", "lancer.lerp(1, {}, 0.5)",
+                        "lancer.animate{frames = 0}"} do
+    local path = write_temp("local lancer = require 'lancer'\n" .. call .. "\n")
+    for _ = 1, 10 do
+      local out, err, code = T.run(lancer .. " " .. path)
+      check_exit(code, 1, out, err)
+      names[err:match("in function '(lancer[%w_.]*)'") or "none"] = true
+    end
+    os.remove(path)
   end
-  os.remove(path)
   local seen = {}
   for k in pairs(names) do seen[#seen + 1] = k end
   table.sort(seen)
-  T.eq(table.concat(seen, ", "), "lancer.sphere", "names in 12 tracebacks")
+  T.eq(table.concat(seen, ", "), "lancer.animate, lancer.lerp, lancer.sphere",
+       "names in 30 tracebacks")
 end)
 
 T.test("an error on stdin is reported as stdin:LINE:", function()
