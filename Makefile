@@ -45,8 +45,12 @@ EDIT_CFLAGS := $(shell pkg-config --cflags libedit 2>/dev/null)
 EDIT_LIBS   := $(shell pkg-config --libs libedit 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
 
+# Lua-free helpers the binding and the command share but the core must not
+# have (the core never prints): linked into the module and lancer only.
+HELPER_SRC := src/progress_bar.c
 # The C core: no Lua header in any of these.
-CORE_SRC := $(filter-out src/lua_%.c src/main.c src/main_%.c src/shade_minimal.c,$(wildcard src/*.c))
+CORE_SRC := $(filter-out src/lua_%.c src/main.c src/main_%.c src/shade_minimal.c \
+                         $(HELPER_SRC),$(wildcard src/*.c))
 # The lancer command: main.c, main_*.c.
 HOST_OBJ := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(wildcard src/main*.c))
 ifeq ($(MINIMAL),1)
@@ -55,6 +59,7 @@ endif
 CORE_OBJ := $(CORE_SRC:src/%.c=$(BUILD)/obj/%.o)
 LUA_SRC  := $(wildcard src/lua_*.c)
 LUA_OBJ  := $(LUA_SRC:src/%.c=$(BUILD)/obj/%.o)
+HELPER_OBJ := $(HELPER_SRC:src/%.c=$(BUILD)/obj/%.o)
 LUA_FILES := $(wildcard lua/lancer/*.lua)
 
 LIB    := $(BUILD)/liblancer.a
@@ -78,9 +83,9 @@ $(LIB): $(CORE_OBJ)
 	rm -f $@ && $(AR) rcs $@ $^
 
 # The module links no liblua: the lua5.4 binary exports the Lua API itself.
-$(MODULE): $(LUA_OBJ) $(LIB)
+$(MODULE): $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	@mkdir -p $(@D)
-	$(CC) -shared $(LDFLAGS) -o $@ $(LUA_OBJ) $(LIB) $(PNG_LIBS) -lm -pthread
+	$(CC) -shared $(LDFLAGS) -o $@ $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(PNG_LIBS) -lm -pthread
 
 # The host embeds lua/lancer/*.lua so it runs from anywhere.
 $(BUILD)/gen/lua_embedded.c: $(LUA_FILES) tools/embed-lua.sh
@@ -94,7 +99,7 @@ $(HOST_OBJ): $(BUILD)/obj/%.o: src/%.c
 $(BUILD)/obj/lua_embedded.o: $(BUILD)/gen/lua_embedded.c
 	$(CC) $(CFLAGS) -c $< -o $@
 
-$(BIN): $(HOST_OBJ) $(BUILD)/obj/lua_embedded.o $(LUA_OBJ) $(LIB)
+$(BIN): $(HOST_OBJ) $(BUILD)/obj/lua_embedded.o $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	@mkdir -p $(@D)
 	$(CC) $(LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EDIT_LIBS) -lm -pthread
 
@@ -134,4 +139,4 @@ $(BUILD)/bin/lc-runstat: tools/runstat.c
 clean:
 	rm -rf $(BUILD) tests/out
 
--include $(CORE_OBJ:.o=.d) $(LUA_OBJ:.o=.d) $(BUILD)/obj/main.d $(C_TESTS:=.d)
+-include $(CORE_OBJ:.o=.d) $(LUA_OBJ:.o=.d) $(HELPER_OBJ:.o=.d) $(BUILD)/obj/main.d $(C_TESTS:=.d)

@@ -54,6 +54,20 @@ static size_t distance(const char *a, const char *b)
     return d[la][lb];
 }
 
+const char *lf_closest(const char *word, const char *const known[])
+{
+    const char *best = NULL;
+    size_t bd = 3;                        /* at most two edits away */
+    for (int i = 0; known[i]; i++) {
+        size_t d = distance(word, known[i]);
+        if (d < bd) {
+            bd = d;
+            best = known[i];
+        }
+    }
+    return best;
+}
+
 void lf_open(lua_State *L, int arg, const char *const known[])
 {
     if (lua_type(L, arg) != LUA_TTABLE) {
@@ -82,15 +96,7 @@ void lf_open(lua_State *L, int arg, const char *const known[])
     }
     if (!bad)
         return;
-    const char *best = NULL;
-    size_t bd = 3;
-    for (int i = 0; known[i]; i++) {
-        size_t d = distance(bad, known[i]);
-        if (d < bd) {
-            bd = d;
-            best = known[i];
-        }
-    }
+    const char *best = lf_closest(bad, known);
     if (best)
         lua_pushfstring(L, "unknown field '%s'; did you mean '%s'?", bad, best);
     else {
@@ -336,4 +342,23 @@ void lf_push_color(lua_State *L, lc_color c)
 {
     lc_vec3 v = {c.r, c.g, c.b};
     lf_push_vec3(L, v);
+}
+
+void lf_add_number(luaL_Buffer *b, double x)
+{
+    char tmp[40];
+    snprintf(tmp, sizeof tmp, "%.6g", x);
+    luaL_addstring(b, tmp);
+}
+
+void lf_add_vec3(luaL_Buffer *b, const char *name, lc_vec3 v)
+{
+    luaL_addstring(b, name);
+    luaL_addstring(b, " = {");
+    lf_add_number(b, v.x);
+    luaL_addstring(b, ", ");
+    lf_add_number(b, v.y);
+    luaL_addstring(b, ", ");
+    lf_add_number(b, v.z);
+    luaL_addstring(b, "}");
 }

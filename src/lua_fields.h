@@ -3,11 +3,17 @@
 #define LUA_FIELDS_H
 
 #include <lua.h>
+#include <lauxlib.h>
 #include "lancer.h"
 
 /* Checks that argument `arg` is a table whose keys are all in `known`
 ** (NULL-terminated); raises "unknown field 'x'; did you mean 'y'?" otherwise. */
 void lf_open(lua_State *L, int arg, const char *const known[]);
+
+/* The name in `known` (NULL-terminated) at most two edits from word (a
+** swap of neighbours is one), for did-you-mean hints; NULL when none is.
+** The lancer command's options use it too. */
+const char *lf_closest(const char *word, const char *const known[]);
 
 /* Raises "bad argument #arg to 'fn' (field 'name': <detail>)". */
 int lf_error(lua_State *L, int arg, const char *field, const char *fmt, ...);
@@ -33,6 +39,9 @@ int lf_to_color(lua_State *L, int idx, lc_color *out, char *why, size_t whylen);
 int lf_to_vec3(lua_State *L, int idx, lc_vec3 *out, char *why, size_t whylen);
 
 void lf_push_vec3(lua_State *L, lc_vec3 v);
+/* For __tostring: "%.6g" numbers, and "name = {x, y, z}". */
+void lf_add_number(luaL_Buffer *b, double x);
+void lf_add_vec3(luaL_Buffer *b, const char *name, lc_vec3 v);
 void lf_push_color(lua_State *L, lc_color c);
 
 #endif

@@ -29,22 +29,45 @@ static int w_image_free(lua_State *L)              /* __gc and __close */
 
 static const char *const encoding_opts[] = {"srgb", "linear", NULL};
 
-static int w_image_save(lua_State *L)
+/* Checks save's arguments: the image at 1, the path at 2, options at 3. */
+static lc_image *save_args(lua_State *L, lc_encoding *enc)
 {
     static const char *const known[] = {"encoding", NULL};
     lc_image *img = check_image(L, 1);
     luaL_checktype(L, 2, LUA_TSTRING);       /* a number is no file name */
-    const char *path = lua_tostring(L, 2);
-    lc_encoding enc = LC_ENCODE_SRGB;
-    if (!lua_isnoneornil(L, 3)) {
+    lua_settop(L, 3);
+    *enc = LC_ENCODE_SRGB;
+    if (!lua_isnil(L, 3)) {
         lf_open(L, 3, known);
-        enc = (lc_encoding)lf_option(L, 3, "encoding", encoding_opts, 0);
+        *enc = (lc_encoding)lf_option(L, 3, "encoding", encoding_opts, 0);
     }
+    return img;
+}
+
+static int save_work(lua_State *L, const lc_image *img, lc_encoding enc, int plain)
+{
     lc_error err;
-    if (lc_image_save(img, path, enc, &err))
-        return luaL_argerror(L, 2, err.msg);     /* names 'save' and the path */
+    if (lc_image_save(img, lua_tostring(L, 2), enc, &err))
+        return hook_fail(L, plain, 2, err.msg);     /* names 'save' and the path */
     lua_settop(L, 1);
     return 1;
+}
+
+/* The hook's plain save (lua_hook.c). */
+static int save_plain(lua_State *L)
+{
+    lc_encoding enc;
+    lc_image *img = save_args(L, &enc);
+    return save_work(L, img, enc, 1);
+}
+
+/* img:save(path [, {encoding = 'srgb'}]): the image, written by rename. */
+static int w_image_save(lua_State *L)
+{
+    lc_encoding enc;
+    lc_image *img = save_args(L, &enc);
+    int n = hook_call(L, "save", save_plain, 3);
+    return n >= 0 ? n : save_work(L, img, enc, 0);
 }
 
 static int w_load_png(lua_State *L)
@@ -220,7 +243,7 @@ void image_register(lua_State *L)
         {"save", w_image_save}, {"pixel", w_image_pixel}, {"diff", w_image_diff},
         {"nonfinite", w_image_nonfinite}, {"set", w_image_set}, {"error", w_image_error},
         {"add", w_image_add}, {NULL, NULL}};
-    binding_class(L, IMAGE, image_meta, image_methods);
+    lancer_class(L, IMAGE, image_meta, image_methods);
     lua_pushcfunction(L, w_load_png);
     lua_setfield(L, -2, "load_png");
     lua_pushcfunction(L, w_image);

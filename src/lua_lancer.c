@@ -1,14 +1,13 @@
 /* lua_lancer.c: the Lua binding's module, a thin layer over lancer.h: require
-** "lancer.core" gathers what lua_objects.c, lua_mesh.c, lua_scene.c and
-** lua_image.c register. */
+** "lancer.core" gathers what the lua_*.c files register. */
 #include <lauxlib.h>
 #include <lua.h>
 #include "lancer.h"
 #include "lua_lancer.h"
 #include "lua_types.h"
 
-void binding_class(lua_State *L, const char *name, const luaL_Reg *meta,
-                   const luaL_Reg *methods)
+void lancer_class(lua_State *L, const char *name, const luaL_Reg *meta,
+                  const luaL_Reg *methods)
 {
     luaL_newmetatable(L, name);
     luaL_setfuncs(L, meta, 0);
@@ -24,16 +23,18 @@ int luaopen_lancer_core(lua_State *L)
 {
     lua_newtable(L);
     objects_register(L);
+    shapes_register(L);
     mesh_register(L);
     scene_register(L);
+    render_register(L);
+    explain_register(L);
     image_register(L);
     motion_register(L);
     scene_objects_register(L);
+    hook_register(L);
     lua_pushstring(L, LC_VERSION);
     lua_setfield(L, -2, "version");
     lua_pushstring(L, "lancer " LC_VERSION);
     lua_setfield(L, -2, "_VERSION");
-    lua_newtable(L);
-    lua_setfield(L, -2, "overrides");
     return 1;
 }

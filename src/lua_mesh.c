@@ -317,6 +317,6 @@ void mesh_register(lua_State *L)
     static const luaL_Reg funcs[] = {
         {"mesh", w_mesh}, {"triangle", w_triangle}, {"load_obj", w_load_obj},
         {NULL, NULL}};
-    binding_class(L, MESH, mesh_meta, mesh_methods);
+    lancer_class(L, MESH, mesh_meta, mesh_methods);
     luaL_setfuncs(L, funcs, 0);
 }

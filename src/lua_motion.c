@@ -324,7 +324,7 @@ int motion_moved(lua_State *L)
         if (lc_shape_transform(&sh->s, t, &out, &err))
             return raise_transform(L, 2, &err);
         lua_getiuservalue(L, 1, 1);
-        push_shape_value(L, &out, -1);
+        shapes_push(L, &out, -1);
         return 1;
     }
     ud_light *li = luaL_testudata(L, 1, LIGHT);
@@ -333,7 +333,7 @@ int motion_moved(lua_State *L)
         l.position = lc_transform_point(t, l.position);
         if (lc_point_light_check(&l, &err))
             return luaL_argerror(L, 2, err.msg);
-        push_light_value(L, &l);
+        objects_push_light(L, &l);
         return 1;
     }
     if (luaL_testudata(L, 1, MESH)) {
@@ -371,11 +371,11 @@ void motion_register(lua_State *L)
     static const luaL_Reg funcs[] = {
         {"translate", w_translate}, {"rotate", w_rotate}, {"scale", w_scale},
         {"transform", w_transform}, {"group", w_group}, {NULL, NULL}};
-    binding_class(L, TRANSFORM, transform_meta, transform_methods);
+    lancer_class(L, TRANSFORM, transform_meta, transform_methods);
     luaL_getmetatable(L, TRANSFORM);              /* methods straight from __index */
     lua_getfield(L, -1, "methods");
     lua_setfield(L, -2, "__index");
     lua_pop(L, 1);
-    binding_class(L, GROUP, group_meta, NULL);
+    lancer_class(L, GROUP, group_meta, NULL);
     luaL_setfuncs(L, funcs, 0);
 }

@@ -1,5 +1,4 @@
 /* lua_scene_objects.c: scene:objects() lists what was added, scene:remove() takes it out. */
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <lauxlib.h>
@@ -7,16 +6,6 @@
 #include "lancer.h"
 #include "lua_fields.h"
 #include "lua_types.h"
-
-static const char *const shape_kinds[LC_SHAPE_KINDS] = {"sphere", "quad", "box", "plane"};
-
-static lc_scene *check_scene(lua_State *L, int idx)
-{
-    ud_scene *u = luaL_checkudata(L, idx, SCENE);
-    if (!u->s)
-        luaL_argerror(L, idx, "lancer.Scene already freed");
-    return u->s;
-}
 
 /* Pushes a table from the core's material index to its material userdata
 ** (the inverse of the scene's SC_MATERIALS; the default material is absent). */
@@ -49,9 +38,9 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
     int mat = lua_gettop(L);
     switch (o->kind) {
     case LC_OBJECT_SHAPE:
-        lua_pushstring(L, shape_kinds[o->shape.kind]);
+        lua_pushstring(L, lc_shape_kind_name(o->shape.kind));
         lua_setfield(L, e, "kind");
-        push_shape_value(L, &o->shape, mat);
+        shapes_push(L, &o->shape, mat);
         break;
     case LC_OBJECT_MESH:
         lua_pushliteral(L, "mesh");
@@ -70,7 +59,7 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
     default:
         lua_pushliteral(L, "point_light");
         lua_setfield(L, e, "kind");
-        push_light_value(L, &o->light);
+        objects_push_light(L, &o->light);
         break;
     }
     lua_setfield(L, e, "object");
@@ -82,7 +71,7 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
 ** Ids count from 1 (the core's from 0), and stay with their object. */
 static int w_scene_objects(lua_State *L)
 {
-    lc_scene *s = check_scene(L, 1);
+    lc_scene *s = scene_check(L, 1)->s;
     size_t n = lc_scene_object_count(s);
     lc_object *objs = lua_newuserdatauv(L, (n + 1) * sizeof *objs, 0);  /* Lua frees it */
     lc_scene_objects(s, objs, n);
@@ -100,32 +89,12 @@ static int w_scene_objects(lua_State *L)
 
 static int same_vec(lc_vec3 a, lc_vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
-/* What the scene stores for a plane's normal: unit, as plane.c makes it. */
-static lc_vec3 plane_unit(lc_vec3 n)
-{
-    if (n.y == 0 && n.z == 0) return (lc_vec3){copysign(1, n.x), 0, 0};
-    if (n.x == 0 && n.z == 0) return (lc_vec3){0, copysign(1, n.y), 0};
-    if (n.x == 0 && n.y == 0) return (lc_vec3){0, 0, copysign(1, n.z)};
-    double r = 1.0 / sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
-    return (lc_vec3){n.x * r, n.y * r, n.z * r};
-}
-
 /* Whether the scene's object o is the value at idx (a shape, light or mesh). */
 static int matches(lua_State *L, int idx, const lc_object *o)
 {
     ud_shape *sh = luaL_testudata(L, idx, SHAPE);
-    if (sh) {
-        const lc_shape *a = &sh->s, *b = &o->shape;
-        if (o->kind != LC_OBJECT_SHAPE || a->kind != b->kind || !same_vec(a->p, b->p))
-            return 0;
-        switch (a->kind) {
-        case LC_SPHERE: return a->radius == b->radius;
-        case LC_PLANE: return same_vec(plane_unit(a->u), b->u);
-        case LC_BOX: return same_vec(a->u, b->u) && same_vec(a->v, b->v) &&
-                            same_vec(a->w, b->w);
-        default: return same_vec(a->u, b->u) && same_vec(a->v, b->v);
-        }
-    }
+    if (sh)
+        return o->kind == LC_OBJECT_SHAPE && shapes_match(&sh->s, &o->shape);
     ud_light *li = luaL_testudata(L, idx, LIGHT);
     if (li)
         return o->kind == LC_OBJECT_LIGHT && same_vec(li->l.position, o->light.position) &&
@@ -138,7 +107,7 @@ static int matches(lua_State *L, int idx, const lc_object *o)
 ** light or mesh that was added, when it was added once. */
 static int w_scene_remove(lua_State *L)
 {
-    lc_scene *s = check_scene(L, 1);
+    lc_scene *s = scene_check(L, 1)->s;
     lc_error err;
     int id = -1;
     if (lua_type(L, 2) == LUA_TTABLE) {
@@ -228,5 +197,5 @@ void scene_objects_register(lua_State *L)
     lua_getfield(L, -1, "methods");
     luaL_setfuncs(L, methods, 0);
     lua_pop(L, 2);
-    binding_class(L, ENTRY, entry_meta, NULL);
+    lancer_class(L, ENTRY, entry_meta, NULL);
 }

@@ -27,7 +27,7 @@ typedef struct {
     lc_scene *s;
     double    mark;     /* when the script last handed control back: creation or
                         ** the end of a render; what follows is scene building */
-} ud_scene;                                       /* user value 1: see lua_scene.c */
+} ud_scene;                                       /* user value 1: see SC_CAMERA */
 typedef struct { lc_image *img; } ud_image;
 typedef struct { lc_mesh *m; } ud_mesh;           /* user value 1: its material */
 typedef struct { lc_transform t; } ud_transform;
@@ -42,23 +42,53 @@ enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4 };
 
 /* A metatable `name` with the metamethods `meta` and, when given, methods
 ** that its __index looks up under "methods". */
-void binding_class(lua_State *L, const char *name, const luaL_Reg *meta,
-                   const luaL_Reg *methods);
+void lancer_class(lua_State *L, const char *name, const luaL_Reg *meta,
+                  const luaL_Reg *methods);
 
 /* Each file registers its metatables and sets its constructors in the module
 ** table at the top of the stack. */
-void objects_register(lua_State *L);   /* lua_objects.c: materials, shapes, lights, cameras */
+void objects_register(lua_State *L);   /* lua_objects.c: materials, lights, cameras */
+void shapes_register(lua_State *L);    /* lua_shapes.c */
 void mesh_register(lua_State *L);      /* lua_mesh.c */
-void scene_register(lua_State *L);     /* lua_scene.c, with ray trees */
+void scene_register(lua_State *L);     /* lua_scene.c: first, the others add methods */
+void render_register(lua_State *L);    /* lua_render.c */
+void explain_register(lua_State *L);   /* lua_explain.c, with ray trees */
 void image_register(lua_State *L);     /* lua_image.c */
 void motion_register(lua_State *L);    /* lua_motion.c: transforms and groups */
 void scene_objects_register(lua_State *L); /* lua_scene_objects.c: objects, remove */
+void hook_register(lua_State *L);      /* lua_hook.c: set_host_hook */
+
+/* lua_scene.c: the scene userdata at idx, raising when it is not one or is freed. */
+ud_scene *scene_check(lua_State *L, int idx);
+
+/* lua_render.c: the options render and explain share, from the named-field
+** table at arg (checked by the caller's lf_open against RENDER_OPTIONS). */
+#define RENDER_OPTIONS "width", "height", "samples", "seed", "threads", "cosine", \
+                       "cutoff", "shadows", "reflections", "specular", "generic", \
+                       "frame", "sampler", "light_samples", "cone_samples", "max_depth", \
+                       "noise", "min_samples", "glossy"
+void render_read_options(lua_State *L, int arg, lc_render_options *o);
+
+/* lua_hook.c: the host hook (lancer.set_host_hook; the comment there says
+** what it sees). hook_call calls it for `method`, with `plain` (the method
+** without the hook) and the nargs checked arguments at 1..nargs, and
+** returns the count of its results on top; -1 when no hook is set.
+** hook_fail raises msg (with arg > 0 as luaL_argerror's detail): here, or
+** with plain set as the plain call's error object, which the method re-raises
+** from the script's call. hook_raise does the same for a core error, naming
+** its field as lf_raise does. */
+int hook_call(lua_State *L, const char *method, lua_CFunction plain, int nargs);
+int hook_fail(lua_State *L, int plain, int arg, const char *msg);
+int hook_raise(lua_State *L, int plain, int arg, const lc_error *err);
 
 /* lua_motion.c: obj:moved(T) for shapes, lights, meshes and groups. */
 int motion_moved(lua_State *L);
-/* The shape and light pushed for core values, with material userdata (or nil)
-** at stack index mat for the shape (lua_objects.c). */
-void push_shape_value(lua_State *L, const lc_shape *s, int mat);
-void push_light_value(lua_State *L, const lc_point_light *l);
+/* lua_shapes.c: pushes the shape userdata for a core value, with the material
+** userdata (or nil) at stack index mat; whether a shape as added is the one
+** a scene lists (lc_shape_stored, then the kind's fields compared). */
+void shapes_push(lua_State *L, const lc_shape *s, int mat);
+int  shapes_match(const lc_shape *added, const lc_shape *listed);
+/* lua_objects.c: pushes the light userdata for a core value. */
+void objects_push_light(lua_State *L, const lc_point_light *l);
 
 #endif

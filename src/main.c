@@ -16,12 +16,12 @@
 
 /* The pure-Lua modules, embedded by tools/embed-lua.sh (NULL-name ended), so
 ** the command runs from anywhere with no lua/ directory beside it. */
-struct lc_embedded_lua {
+struct embedded_lua {
     const char *name;
     const unsigned char *data;
     size_t len;
 };
-extern const struct lc_embedded_lua lc_embedded_lua[];
+extern const struct embedded_lua embedded_lua[];
 
 const char *host_progname = "lancer";
 static lua_State *globalL;              /* the state Ctrl-C interrupts */
@@ -159,7 +159,7 @@ static int handle_script(lua_State *L, const struct cmdline *cl)
 ** first require, so a broken module fails there and not at every start. */
 static int load_embedded(lua_State *L)
 {
-    const struct lc_embedded_lua *m = lua_touserdata(L, lua_upvalueindex(1));
+    const struct embedded_lua *m = lua_touserdata(L, lua_upvalueindex(1));
     const char *path;
     /* tools/embed-lua.sh names lua/lancer/init.lua "lancer" and
     ** lua/lancer/x.lua "lancer.x"; name the chunk after the file. */
@@ -178,11 +178,11 @@ static int load_embedded(lua_State *L)
 
 static void register_modules(lua_State *L)
 {
-    const struct lc_embedded_lua *m;
+    const struct embedded_lua *m;
     luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_PRELOAD_TABLE);
     lua_pushcfunction(L, luaopen_lancer_core);
     lua_setfield(L, -2, "lancer.core");
-    for (m = lc_embedded_lua; m->name != NULL; m++) {
+    for (m = embedded_lua; m->name != NULL; m++) {
         lua_pushlightuserdata(L, (void *)m);
         lua_pushcclosure(L, load_embedded, 1);
         lua_setfield(L, -2, m->name);
@@ -201,18 +201,17 @@ static void seed_random(lua_State *L)
     lua_pop(L, 1);
 }
 
-/* The animation options, into the overrides table on top of the stack. */
-static void store_anim_overrides(lua_State *L, const struct anim_opts *an)
+/* The frame options, as a table for lancer.host (which hands it to lancer.anim). */
+static void push_anim_options(lua_State *L, const struct anim_opts *an)
 {
     int k;
-    if (!an->first)
-        return;
-    lua_pushboolean(L, 1);          /* usage errors found later exit 2 */
-    lua_setfield(L, -2, "cli");
+    lua_newtable(L);
+    lua_pushstring(L, an->first);
+    lua_setfield(L, -2, "first");
     if (an->nframes > 0) {
         lua_newtable(L);
         for (k = 0; k < an->nframes; k++)
-            args_frame_list(an->frames[k], L);
+            args_frame_list(an->frames[k], an->frame_flags[k], L);
         lua_setfield(L, -2, "frames");
     }
     if (an->shard_n > 0) {
@@ -237,65 +236,10 @@ static void store_anim_overrides(lua_State *L, const struct anim_opts *an)
     }
 }
 
-/* After the script: how many animations it declared (lancer.animate calls). */
-static int anim_count(lua_State *L)
+/* --accuracy's options, as lancer.accuracy.setup reads them. */
+static void push_accuracy_options(lua_State *L, const struct cmdline *cl)
 {
-    host_module_field(L, "lancer.anim", "finish");
-    lua_call(L, 0, 1);
-    return 1;
-}
-
-/* Runs protected: require may fail, and lancer may not be a table. */
-static int store_overrides(lua_State *L)
-{
-    const struct cmdline *cl = lua_touserdata(L, 1);
-    lua_getglobal(L, "require");
-    lua_pushliteral(L, "lancer");
-    lua_call(L, 1, 1);
-    if (!lua_istable(L, -1))
-        return luaL_error(L, "require 'lancer' gave a %s, not a table",
-                          luaL_typename(L, -1));
-    if (lua_getfield(L, -1, "overrides") != LUA_TTABLE) {
-        lua_pop(L, 1);
-        lua_newtable(L);
-        lua_pushvalue(L, -1);
-        lua_setfield(L, -3, "overrides");
-    }
-    if (cl->width) {
-        lua_pushinteger(L, cl->width);
-        lua_setfield(L, -2, "width");
-    }
-    if (cl->height) {
-        lua_pushinteger(L, cl->height);
-        lua_setfield(L, -2, "height");
-    }
-    if (cl->samples) {
-        lua_pushinteger(L, cl->samples);
-        lua_setfield(L, -2, "samples");
-    }
-    if (cl->check) {
-        lua_pushboolean(L, 1);
-        lua_setfield(L, -2, "check");
-    }
-    if (cl->stats) {
-        lua_pushboolean(L, 1);
-        lua_setfield(L, -2, "stats");
-    }
-    store_anim_overrides(L, &cl->anim);
-    if (cl->accuracy) {
-        lua_pushboolean(L, 1);
-        lua_setfield(L, -2, "accuracy");
-    }
-    return 0;
-}
-
-/* --accuracy: hands the options to lancer.accuracy.setup, which returns
-** true or nil and the usage error. Runs protected. */
-static int accuracy_setup(lua_State *L)
-{
-    const struct cmdline *cl = lua_touserdata(L, 1);
-    host_module_field(L, "lancer.accuracy", "setup");
-    lua_createtable(L, 0, 3);
+    lua_createtable(L, 0, 4);
     lua_createtable(L, cl->nknobs, 0);
     for (int i = 0; i < cl->nknobs; i++) {
         lua_pushstring(L, cl->knobs[i]);
@@ -312,35 +256,60 @@ static int accuracy_setup(lua_State *L)
     }
     lua_pushstring(L, cl->script_stdin ? "stdin" : cl->argv[cl->script]);
     lua_setfield(L, -2, "script");
+}
+
+static void set_integer(lua_State *L, const char *name, lua_Integer v)
+{
+    if (v) {
+        lua_pushinteger(L, v);
+        lua_setfield(L, -2, name);
+    }
+}
+
+static void set_boolean(lua_State *L, const char *name, int v)
+{
+    lua_pushboolean(L, v);
+    lua_setfield(L, -2, name);
+}
+
+/* Hands the command line to lancer.host.setup, which installs the host hook
+** (src/lua_hook.c); returns true, or nil and a usage error. Runs protected:
+** require may fail. */
+static int host_setup(lua_State *L)
+{
+    const struct cmdline *cl = lua_touserdata(L, 1);
+    int repl = lua_toboolean(L, 2);
+    host_module_field(L, "lancer.host", "setup");
+    lua_createtable(L, 0, 10);
+    set_integer(L, "width", cl->width);
+    set_integer(L, "height", cl->height);
+    set_integer(L, "samples", cl->samples);
+    set_boolean(L, "check", cl->check);
+    set_boolean(L, "stats", cl->stats);
+    set_boolean(L, "repl", repl);
+    set_boolean(L, "code", cl->nchunks > 0);
+    if (cl->script > 0) {
+        lua_pushstring(L, cl->script_stdin ? "stdin" : cl->argv[cl->script]);
+        lua_setfield(L, -2, "script");
+    }
+    if (cl->anim.first) {
+        push_anim_options(L, &cl->anim);
+        lua_setfield(L, -2, "anim");
+    }
+    if (cl->accuracy) {
+        push_accuracy_options(L, cl);
+        lua_setfield(L, -2, "accuracy");
+    }
     lua_call(L, 1, 2);
     return 2;
 }
 
-/* After an --accuracy run: false when the script rendered nothing. */
-static int accuracy_finish(lua_State *L)
+/* After the script: lancer.host.finish's exit status (0: go on). */
+static int host_finish(lua_State *L)
 {
-    host_module_field(L, "lancer.accuracy", "finish");
+    host_module_field(L, "lancer.host", "finish");
     lua_call(L, 0, 1);
     return 1;
-}
-
-/* After a --check run: lancer.check's verdict, as a boolean. */
-static int check_verdict(lua_State *L)
-{
-    host_module_field(L, "lancer.check", "finish");
-    lua_call(L, 0, 1);
-    return 1;
-}
-
-/* Loads lancer only when asked to, so -e 'print(1)' needs no renderer. */
-static int set_overrides(lua_State *L, const struct cmdline *cl)
-{
-    if (!cl->width && !cl->height && !cl->samples && !cl->check && !cl->stats &&
-        !cl->anim.first && !cl->accuracy)
-        return LUA_OK;
-    lua_pushcfunction(L, store_overrides);
-    lua_pushlightuserdata(L, (void *)cl);
-    return host_report(L, host_docall(L, 1, 0));
 }
 
 /* ---- main ------------------------------------------------------------------ */
@@ -350,7 +319,10 @@ static int set_overrides(lua_State *L, const struct cmdline *cl)
 static int pmain(lua_State *L)
 {
     struct cmdline *cl = lua_touserdata(L, 1);
-    int i;
+    int i, code;
+    /* The prompt follows the script (or is all there is). */
+    int repl = cl->interactive ||
+               (cl->script == 0 && cl->nchunks == 0 && isatty(STDIN_FILENO));
     luaL_checkversion(L);
     luaL_openlibs(L);
     register_modules(L);
@@ -358,68 +330,40 @@ static int pmain(lua_State *L)
     create_arg_table(L, cl);
     lua_gc(L, LUA_GCRESTART);
     lua_gc(L, LUA_GCGEN, 0, 0);         /* lua5.4's mode, for like timings */
-    if (set_overrides(L, cl) != LUA_OK)
+    lua_pushcfunction(L, host_setup);
+    lua_pushlightuserdata(L, cl);
+    lua_pushboolean(L, repl);
+    if (host_report(L, host_docall(L, 2, 2)) != LUA_OK)
         return 0;
-    if (cl->accuracy) {
-        lua_pushcfunction(L, accuracy_setup);
-        lua_pushlightuserdata(L, cl);
-        if (host_report(L, host_docall(L, 1, 2)) != LUA_OK)
-            return 0;
-        if (!lua_toboolean(L, -2)) {
-            args_usage_error("%s", lua_tostring(L, -1));
-            cl->late_usage = 1;
-            return 0;
-        }
-        lua_pop(L, 2);
+    if (!lua_toboolean(L, -2)) {
+        args_usage_error("%s", lua_tostring(L, -1));
+        cl->late_usage = 1;
+        return 0;
     }
+    lua_pop(L, 2);
     for (i = 0; i < cl->nchunks; i++) {
-        const char *code = cl->chunks[i];
-        int st = luaL_loadbuffer(L, code, strlen(code), "=(command line)");
+        const char *chunk = cl->chunks[i];
+        int st = luaL_loadbuffer(L, chunk, strlen(chunk), "=(command line)");
         if (dochunk(L, st) != LUA_OK)
             return 0;
     }
     if (cl->script > 0 && handle_script(L, cl) != LUA_OK)
         return 0;
-    /* Frame options need an animation (not checked for the REPL). */
-    if (cl->anim.first && !cl->interactive && (cl->script > 0 || cl->nchunks > 0)) {
-        lua_pushcfunction(L, anim_count);
-        if (host_report(L, host_docall(L, 0, 1)) != LUA_OK)
-            return 0;
-        if (lua_tointeger(L, -1) == 0) {
-            fprintf(stderr, "lancer: option '%s' needs a script that calls "
-                    "lancer.animate{...}; %s does not; try 'lancer --help'\n",
-                    cl->anim.first,
-                    cl->script > 0 ? cl->argv[cl->script] : "the code run");
-            cl->late_usage = 1;
-            return 0;
-        }
-        lua_pop(L, 1);
+    if (!repl && cl->script == 0 && cl->nchunks == 0 &&
+        dochunk(L, luaL_loadfile(L, NULL)) != LUA_OK)      /* stdin, not a terminal */
+        return 0;
+    lua_pushcfunction(L, host_finish);
+    if (host_report(L, host_docall(L, 0, 1)) != LUA_OK)
+        return 0;
+    code = (int)lua_tointeger(L, -1);
+    lua_pop(L, 1);
+    if (code != 0) {
+        cl->unstable = code == 3;
+        cl->late_usage = code == 2;
+        return 0;
     }
-    if (cl->check) {
-        lua_pushcfunction(L, check_verdict);
-        if (host_report(L, host_docall(L, 0, 1)) != LUA_OK)
-            return 0;
-        if (!lua_toboolean(L, -1)) {
-            cl->unstable = 1;
-            return 0;
-        }
-        lua_pop(L, 1);
-    }
-    if (cl->accuracy) {
-        lua_pushcfunction(L, accuracy_finish);
-        if (host_report(L, host_docall(L, 0, 1)) != LUA_OK || !lua_toboolean(L, -1))
-            return 0;
-        lua_pop(L, 1);
-    }
-    if (cl->interactive) {
+    if (repl)
         repl_run(L);
-    } else if (cl->script == 0 && cl->nchunks == 0) {
-        if (isatty(STDIN_FILENO)) {
-            repl_run(L);
-        } else if (dochunk(L, luaL_loadfile(L, NULL)) != LUA_OK) {
-            return 0;
-        }
-    }
     lua_pushboolean(L, 1);
     return 1;
 }
@@ -439,10 +383,12 @@ int main(int argc, char **argv)
     }
     cl.chunks = malloc((size_t)argc * sizeof *cl.chunks);
     cl.anim.frames = malloc((size_t)argc * sizeof *cl.anim.frames);
-    if (cl.chunks == NULL || cl.anim.frames == NULL) {
+    cl.anim.frame_flags = malloc((size_t)argc * sizeof *cl.anim.frame_flags);
+    if (cl.chunks == NULL || cl.anim.frames == NULL || cl.anim.frame_flags == NULL) {
         fprintf(stderr, "lancer: not enough memory\n");
         free(cl.chunks);
         free(cl.anim.frames);
+        free(cl.anim.frame_flags);
         return 1;
     }
     parsed = args_parse(&cl);
@@ -451,6 +397,7 @@ int main(int argc, char **argv)
     if (parsed != PARSE_RUN) {
         free(cl.chunks);
         free(cl.anim.frames);
+        free(cl.anim.frame_flags);
         return parsed == PARSE_DONE ? 0 : 2;
     }
 
@@ -459,6 +406,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "lancer: cannot create the Lua state: not enough memory\n");
         free(cl.chunks);
         free(cl.anim.frames);
+        free(cl.anim.frame_flags);
         return 1;
     }
     lua_gc(L, LUA_GCSTOP);              /* no collection while building state */
@@ -470,6 +418,7 @@ int main(int argc, char **argv)
     lua_close(L);
     free(cl.chunks);
     free(cl.anim.frames);
+    free(cl.anim.frame_flags);
     if (cl.unstable)
         return 3;
     if (cl.late_usage)

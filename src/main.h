@@ -11,9 +11,10 @@
 #define ACCURACY_KNOBS 8                 /* --knob options one run takes */
 #define HISTORY_FILE   ".lancer_history" /* the REPL's, under $HOME */
 
-/* The animation options: lancer.animate reads them from lancer.overrides. */
+/* The animation options: lancer.host hands them to lancer.anim. */
 struct anim_opts {
     const char **frames;    /* --frames and --frame lists, checked; nframes of them */
+    const char **frame_flags;  /* the option each came with, "--frames" or "--frame" */
     int nframes;
     int shard_k, shard_n;   /* --shard K/N; shard_n 0: every frame */
     int skip_existing;      /* --skip-existing */
@@ -55,9 +56,9 @@ int         args_parse(struct cmdline *cl);          /* PARSE_*; usage errors pr
 int         args_check_accuracy(const struct cmdline *cl);
 /* Prints "lancer: " fmt (with what) and a hint; returns PARSE_USAGE. */
 int         args_usage_error(const char *fmt, const char *what);
-/* Checks a --frames list; with L, appends {A, B, STEP} items to the table on
-** top of its stack. NULL, or why the list is wrong. */
-const char *args_frame_list(const char *s, lua_State *L);
+/* Checks a --frames list; with L, appends {A, B, STEP, option = flag} items
+** to the table on top of its stack. NULL, or why the list is wrong. */
+const char *args_frame_list(const char *s, const char *flag, lua_State *L);
 
 /* main.c: running Lua code, after lua.c. */
 extern const char *host_progname;        /* prefix of errors; NULL in the REPL */

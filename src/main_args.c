@@ -6,6 +6,7 @@
 #include <lauxlib.h>
 #include <lua.h>
 
+#include "lua_fields.h"
 #include "main.h"
 
 static void print_usage(void)
@@ -19,7 +20,7 @@ static void print_usage(void)
 "                                the same, as a quick preview\n"
 "  lancer scene.lua a b          the script sees arg[1] == 'a', arg[2] == 'b'\n"
 "  lancer - < scene.lua          read the script from standard input\n"
-"  lancer -e 'print(require(\"lancer\").version)'\n"
+"  lancer -e 'print(lancer.version)'\n"
 "  lancer -i scene.lua           run scene.lua, then the interactive prompt\n"
 "  lancer --check scene.lua      is the scene numerically stable?\n"
 "  lancer --video orbit.mp4 orbit.lua\n"
@@ -30,8 +31,10 @@ static void print_usage(void)
 "                                error against time over those levels\n"
 "  lancer                        the interactive prompt\n"
 "\n"
-"Options (before the script; arguments after it go to the script):\n"
-"  -e CODE       run the Lua string CODE (may be repeated)\n"
+"Options go before the script: whatever follows it is the script's, as with\n"
+"lua5.4, so 'lancer scene.lua out.png --width 100' hands --width to the script\n"
+"(lancer notes it on stderr).\n"
+"  -e CODE       run the Lua string CODE, with lancer loaded (may be repeated)\n"
 "  -i            enter the interactive prompt after the script\n"
 "  -             read the script from standard input\n"
 "  --            stop handling options\n"
@@ -40,8 +43,9 @@ static void print_usage(void)
 "  --samples N   take N samples per pixel, likewise\n"
 "  --stats       print each render's ledger: rays by kind, tests, phases, effects\n"
 "  --check       render each image small at scales 1e-3, 1, 1e3 and moved 1e6\n"
-"                away; host_report differing pixels, NaN and self-hits (exit 3 if\n"
-"                the scene is numerically unstable)\n"
+"                away; report differing pixels, NaN and self-hits (exit 3 if\n"
+"                the scene is numerically unstable). Writes none of the images\n"
+"                the script saves: its files stay as they were\n"
 "\n"
 "Animations (scripts calling lancer.animate{...}; frames are numbered from 1\n"
 "unless the script sets 'first'):\n"
@@ -59,7 +63,8 @@ static void print_usage(void)
 "\n"
 "  --accuracy    render each image the script asks for at every level of each\n"
 "                --knob, against a reference 16x the largest; print error, time\n"
-"                and efficiency, write a CSV and a plot (see the README)\n"
+"                and efficiency, write a CSV and a plot (see the README) into\n"
+"                --out, and none of the images the script saves\n"
 "  --knob NAME=L1,L2,...  with --accuracy: samples, cone_samples,\n"
 "                light_samples or max_depth (depth), increasing levels;\n"
 "                may be repeated\n"
@@ -75,6 +80,52 @@ static void print_usage(void)
 "~/" HISTORY_FILE ". Ctrl-C interrupts running code or a render, Ctrl-D quits.\n"
 "\n"
 "Exit status: 0 success, 1 script error, 2 usage error, 3 unstable (--check).\n", stdout);
+}
+
+/* The long options, for did-you-mean hints and for noticing one placed
+** after the script. */
+static const char *const long_options[] = {
+    "--width", "--height", "--samples", "--stats", "--check", "--frames", "--frame",
+    "--shard", "--skip-existing", "--list-frames", "--video", "--output",
+    "--accuracy", "--knob", "--seeds", "--out", "--help", "--version", NULL};
+
+/* argv's word without its "=value". */
+static void option_name(const char *arg, char *out, size_t n)
+{
+    size_t len = strcspn(arg, "=");
+    if (len >= n)
+        len = n - 1;
+    memcpy(out, arg, len);
+    out[len] = '\0';
+}
+
+static int unknown_option(const char *arg)
+{
+    char name[64];
+    option_name(arg, name, sizeof name);
+    const char *hint = NULL;
+    if (strncmp(name, "--", 2) == 0)           /* '-x' is not one letter from '-e' */
+        hint = lf_closest(name, long_options);
+    if (!hint)
+        return args_usage_error("unknown option '%s'", arg);
+    fprintf(stderr, "lancer: unknown option '%s'; did you mean '%s'?\n", name, hint);
+    return PARSE_USAGE;
+}
+
+/* Arguments after the script are the script's (Lua's convention); one
+** that is a lancer option was likely meant for lancer: say so, once. */
+static void note_late_options(char **argv, int script)
+{
+    for (int i = script + 1; argv[i] != NULL; i++) {
+        char name[64];
+        option_name(argv[i], name, sizeof name);
+        for (int k = 0; long_options[k]; k++)
+            if (strcmp(name, long_options[k]) == 0) {
+                fprintf(stderr, "lancer: note: '%s' comes after the script, so the "
+                        "script gets it; put options before the script\n", name);
+                return;
+            }
+    }
 }
 
 int args_usage_error(const char *fmt, const char *what)
@@ -103,6 +154,24 @@ static int parse_positive(const char *s, lua_Integer *out)
     return v > 0;
 }
 
+/* Whether the core takes v as the render option `name` (width, height or
+** samples), so that a value no render can use stops the command here. */
+static int render_option_ok(const char *name, lua_Integer v)
+{
+    lc_render_options o = lc_render_options_default();
+    lc_error err;
+    int *field = strcmp(name, "--width") == 0 ? &o.width
+               : strcmp(name, "--height") == 0 ? &o.height
+               : strcmp(name, "--samples") == 0 ? &o.samples : NULL;
+    if (!field)
+        return 1;
+    *field = (int)v;
+    if (lc_render_options_check(&o, &err) == LC_OK)
+        return 1;
+    fprintf(stderr, "lancer: option '%s': %s; try 'lancer --help'\n", name, err.msg);
+    return 0;
+}
+
 /* Handles one "--width W" or "--width=W"; *i moves past the value. */
 static int parse_size(struct cmdline *cl, int *i, const char *name, lua_Integer *out)
 {
@@ -121,7 +190,7 @@ static int parse_size(struct cmdline *cl, int *i, const char *name, lua_Integer 
                 "try 'lancer --help'\n", name, v);
         return PARSE_USAGE;
     }
-    return PARSE_RUN;
+    return render_option_ok(name, *out) ? PARSE_RUN : PARSE_USAGE;
 }
 
 static int is_opt(const char *arg, const char *name)
@@ -150,9 +219,9 @@ static int frame_number(const char **s, long *out)
 }
 
 /* Reads a --frames list: items N, A-B or A-B:S separated by commas. With L,
-** appends each item as {A, B, S} to the table on top of L's stack. Returns
-** NULL, or why the list is wrong. */
-const char *args_frame_list(const char *s, lua_State *L)
+** appends each item as {A, B, S, option = flag} to the table on top of L's
+** stack. Returns NULL, or why the list is wrong. */
+const char *args_frame_list(const char *s, const char *flag, lua_State *L)
 {
     do {
         long a, b, step = 1;
@@ -175,6 +244,8 @@ const char *args_frame_list(const char *s, lua_State *L)
             lua_rawseti(L, -2, 2);
             lua_pushinteger(L, step);
             lua_rawseti(L, -2, 3);
+            lua_pushstring(L, flag);
+            lua_setfield(L, -2, "option");
             lua_rawseti(L, -2, (lua_Integer)luaL_len(L, -2) + 1);
         }
     } while (*s++ == ',');
@@ -230,13 +301,14 @@ static int parse_anim_option(struct cmdline *cl, int *i, int *st)
         return 1;
     }
     if (strcmp(name, "--frames") == 0 || strcmp(name, "--frame") == 0) {
-        if ((why = args_frame_list(v, NULL)) != NULL) {
+        if ((why = args_frame_list(v, name, NULL)) != NULL) {
             fprintf(stderr, "lancer: option '%s' needs frames like 7, 1-48, 1-48:2 or "
                     "1,5,9-12, got '%s' (%s); try 'lancer --help'\n", name, v, why);
             *st = PARSE_USAGE;
         } else if (strcmp(name, "--frame") == 0 && strpbrk(v, ",-:")) {
             *st = bad_value(name, "one frame number (--frames takes lists)", v);
         } else {
+            an->frame_flags[an->nframes] = name;
             an->frames[an->nframes++] = v;
         }
     } else if (strcmp(name, "--shard") == 0) {
@@ -316,13 +388,17 @@ int args_parse(struct cmdline *cl)
         int st = PARSE_RUN;
         if (a[0] != '-') {                       /* the script */
             cl->script = i;
+            note_late_options(argv, i);
             return PARSE_RUN;
         } else if (strcmp(a, "-") == 0) {
             cl->script = i;
             cl->script_stdin = 1;
+            note_late_options(argv, i);
             return PARSE_RUN;
         } else if (strcmp(a, "--") == 0) {
             cl->script = argv[i + 1] ? i + 1 : 0;
+            if (cl->script)
+                note_late_options(argv, cl->script);
             return PARSE_RUN;
         } else if (strcmp(a, "--help") == 0) {
             print_usage();
@@ -358,7 +434,7 @@ int args_parse(struct cmdline *cl)
         } else if (is_opt(a, "--seeds")) {
             st = parse_size(cl, &i, "--seeds", &cl->seeds);
         } else {
-            return args_usage_error("unknown option '%s'", a);
+            return unknown_option(a);
         }
         if (st != PARSE_RUN)
             return st;

@@ -87,7 +87,9 @@ static void saveline(const char *line)
         add_history(line);
 }
 
-/* An expression prints its value: try "return LINE" first. */
+/* An expression prints its value: try "return LINES" first, LINES being
+** the line or the lines read so far, on top; on success the chunk goes on
+** top of them. */
 static int addreturn(lua_State *L)
 {
     const char *line = lua_tostring(L, -1);
@@ -117,11 +119,16 @@ static int incomplete(lua_State *L, int status)
     return 0;
 }
 
+/* Reads lines until what was typed compiles (as an expression first, so a
+** call spread over lines prints its value as a one-line one does) or is
+** wrong for a reason more lines cannot mend. */
 static int multiline(lua_State *L)
 {
     for (;;) {
         size_t len;
         const char *line = lua_tolstring(L, 1, &len);
+        if (addreturn(L) == LUA_OK)
+            return LUA_OK;
         int status = luaL_loadbuffer(L, line, len, "=stdin");
         if (!incomplete(L, status) || !pushline(L, 0)) {
             saveline(line);

@@ -12,8 +12,8 @@ for f in "$@"; do
     echo "};"
     n=$((n + 1))
 done
-echo 'struct lc_embedded_lua { const char *name; const unsigned char *data; size_t len; };'
-echo 'const struct lc_embedded_lua lc_embedded_lua[] = {'
+echo 'struct embedded_lua { const char *name; const unsigned char *data; size_t len; };'
+echo 'const struct embedded_lua embedded_lua[] = {'
 n=0
 for f in "$@"; do
     name=${f#lua/}; name=${name%.lua}; name=${name%/init}

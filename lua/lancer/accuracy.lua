@@ -146,8 +146,9 @@ local function reference_plan(knob)
     2 * half, note, half)
 end
 
--- Renders and measures one knob; returns the result table.
-local function sweep(scene, base, knob, seeds)
+-- Renders (through plain: without the host hook) and measures one knob;
+-- returns the result table.
+local function sweep(plain, scene, base, knob, seeds)
   local lancer = require "lancer"
   local name, levels = knob.name, knob.levels
   local ref_value, half, ref_note = reference_plan(knob)
@@ -157,7 +158,7 @@ local function sweep(scene, base, knob, seeds)
     local o = copy(base)
     o.seed = REF_SEED + i - 1
     set_knob(scene, o, name, half)
-    local img, st = scene:render(o)
+    local img, st = plain(scene, o)
     halves[i] = img
     ref_stats = ref_stats or st
   end
@@ -177,7 +178,7 @@ local function sweep(scene, base, knob, seeds)
       local o = copy(base)
       o.seed = seed
       set_knob(scene, o, name, level)
-      local img, st = scene:render(o)
+      local img, st = plain(scene, o)
       local e = img:error(ref)
       r.kinds = r.kinds or kinds_of(st.rays)
       local run = {level = level, seed = seed, seconds = st.trace_seconds,
@@ -307,26 +308,26 @@ end
 
 -- ---- The diverted render ------------------------------------------------------
 
--- Called by scene:render in accuracy mode, in place of the render itself.
--- Returns the last knob's reference image and its first half's statistics.
-function M.render(scene, opts)
-  local lancer = require "lancer"
+-- Called by the lancer command's host hook (lancer.host) in place of the
+-- render the script asked for; plain renders without the hook, cli holds
+-- the command's --width, --height and --samples. Returns the last knob's
+-- reference image and its first half's statistics.
+function M.render(scene, opts, plain, cli)
   local cfg = assert(M.config, "lancer.accuracy.setup was not called")
-  local over = lancer.overrides
   M.renders = M.renders + 1
   local base = copy(opts or {})
-  -- --samples is the script's own value here: the sweep sets samples itself.
-  local saved = {accuracy = over.accuracy, samples = over.samples,
-                 depth = scene.max_depth}
-  if over.samples then base.samples = over.samples end
-  over.accuracy, over.samples = nil, nil
+  -- --width and --height hold for every render of the sweep; --samples is
+  -- the script's own value here: the sweep sets samples itself.
+  base.width, base.height = cli.width or base.width, cli.height or base.height
+  if cli.samples then base.samples = cli.samples end
   base.progress = false
-  if not over.width and not over.height then
+  if not cli.width and not cli.height then
     local w, h = base.width or 640, base.height or 480
     local k = math.min(1, SIDE / math.max(w, h))
     base.width = math.max(1, math.floor(w * k + 0.5))
     base.height = math.max(1, math.floor(h * k + 0.5))
   end
+  local depth = scene.max_depth
   local ok, err = pcall(function()
     assert(os.execute("mkdir -p '" .. cfg.out:gsub("'", [['\'']]) .. "'"),
            "accuracy: cannot create " .. cfg.out)
@@ -335,8 +336,8 @@ function M.render(scene, opts)
       local name = cfg.script .. (M.renders > 1 and "-" .. M.renders or "") ..
                    "-" .. knob.name
       local prefix = cfg.out .. "/" .. name
-      local r, ref, ref_stats = sweep(scene, base, knob, cfg.seeds)
-      scene.max_depth = saved.depth
+      local r, ref, ref_stats = sweep(plain, scene, base, knob, cfg.seeds)
+      scene.max_depth = depth
       local label = ("render %d of %s"):format(M.renders, cfg.script)
       io.write(table_text(r, label))
       write(prefix .. ".csv", csv_summary(r))
@@ -350,8 +351,7 @@ function M.render(scene, opts)
     end
     return results
   end)
-  over.accuracy, over.samples = saved.accuracy, saved.samples
-  scene.max_depth = saved.depth
+  scene.max_depth = depth
   if not ok then error(err, 0) end
   local last = err[#err]
   return last.ref, last.stats

@@ -8,7 +8,17 @@
 -- random number of the renderer), math.random is reseeded with n before the
 -- frame function runs, and f.clock and f.time come from the animation's
 -- whole range, not from the frames selected.
-local M = {count = 0, busy = false}
+local M = {count = 0, busy = false}   -- lancer.animate calls; in one now
+
+-- What the command line selected: frames ({first, last, step, option}
+-- triples, option naming the flag given), shard ({K, N}), skip_existing,
+-- list_frames, video, output. lancer.host sets it for the lancer command;
+-- elsewhere it is empty and every frame is rendered.
+M.options = {}
+
+-- How a misuse of those options is reported: lancer.host makes it a usage
+-- error (exit 2); elsewhere (lua5.4, tests) it is an error.
+function M.usage(msg) error(msg, 0) end
 
 local FIELDS = {"frames", "fps", "first", "output", "render", "frame", "loop"}
 local VIDEO = {   -- container: ffmpeg's format name, then the codec arguments
@@ -41,16 +51,7 @@ end
 local failure_mt = {__tostring = function(e) return e.msg end}
 local function fail(msg) error(setmetatable({msg = msg}, failure_mt), 0) end
 
--- Where a misuse of the command line's options is reported: the command
--- exits 2 as for any bad option; elsewhere (lua5.4, tests) it is an error.
-local function usage(msg)
-  local over = require("lancer").overrides or {}
-  if over.cli then
-    io.stderr:write("lancer: ", msg, "; try 'lancer --help'\n")
-    os.exit(2, true)
-  end
-  error(msg, 0)
-end
+local function usage(msg) M.usage(msg) end
 
 -- Reads an output pattern: printf style ("out/f_%04d.png", "%%" for a
 -- literal %) or Blender style ("out/f_####.png", one run of #). Returns a
@@ -140,7 +141,7 @@ local function check(spec)
     argerror("render", "'frame' is set by animate to each frame's number")
   end
   a.output = spec.output
-  local over = require("lancer").overrides or {}
+  local over = M.options
   local path, ffpat = M.pattern(over.output or a.output)
   if not path then
     if over.output then usage("option '-o' " .. ffpat) end
@@ -151,7 +152,7 @@ local function check(spec)
 end
 
 -- The frame numbers to render, ascending, each once: the command line's
--- --frames ranges ({first, last, step} triples) or the whole animation,
+-- --frames ranges (over.frames) or the whole animation,
 -- then only those n with n % N == K under --shard K/N.
 function M.select(a, over)
   local chosen = {}
@@ -159,8 +160,9 @@ function M.select(a, over)
     for _, r in ipairs(over.frames) do
       local lo, hi, step = r[1], r[2], r[3] or 1
       if lo < a.first or hi > a.last then
-        usage(("option '--frames': %s is outside the animation's frames %d-%d"):format(
-          lo == hi and ("frame " .. lo) or ("%d-%d"):format(lo, hi), a.first, a.last))
+        local which = lo == hi and ("frame " .. lo) or ("%d-%d"):format(lo, hi)
+        usage(("option '%s': %s is outside the animation's frames %d-%d"):format(
+          r.option or "--frames", which, a.first, a.last))
       end
       for n = lo, hi, step do chosen[n] = true end
     end
@@ -267,7 +269,7 @@ end
 function M.animate(spec)
   local checked, a = pcall(check, spec)
   if not checked then error(a, 2) end     -- at the caller's line
-  local over = require("lancer").overrides or {}
+  local over = M.options
   M.count = M.count + 1
   local frames = M.select(a, over)
   if over.list_frames then
@@ -315,11 +317,6 @@ function M.animate(spec)
   end
   if over.video then assemble(a, over.video) end
   return result
-end
-
--- After the script, for the lancer command: how many animations it declared.
-function M.finish()
-  return M.count
 end
 
 return M

@@ -17,32 +17,29 @@ local VARIANTS = {
 
 local function line(fmt, ...) io.stderr:write(fmt:format(...), "\n") end
 
--- Renders `scene` with the script's options made small, with check mode off
--- so the renders below are ordinary ones.
-local function small(scene, opts)
+-- Renders `scene` with the script's options made small, through plain (the
+-- render without the host hook).
+local function small(plain, scene, opts)
   local o = {}
   for k, v in pairs(opts or {}) do o[k] = v end
   local w, h = o.width or 640, o.height or 480
   local k = math.min(1, SIDE / math.max(w, h))
   o.width, o.height = math.max(1, math.floor(w * k + 0.5)), math.max(1, math.floor(h * k + 0.5))
   o.progress = false
-  return scene:render(o)
+  return plain(scene, o)
 end
 
--- Called by scene:render in check mode, in place of the render itself.
-function M.render(scene, opts)
-  local lancer = require "lancer"
-  local over = lancer.overrides
-  over.check = nil
-  local ok, ref, st = pcall(small, scene, opts)
-  if not ok then over.check = true; error(ref, 2) end
+-- Called by the lancer command's host hook (lancer.host) in place of the
+-- render the script asked for; plain renders without the hook.
+function M.render(scene, opts, plain)
+  local ref, st = small(plain, scene, opts)
   M.renders = M.renders + 1
   line("check: render %d at %dx%d: %d NaN or infinite channels, %d self-hits",
        M.renders, ref.width, ref.height, ref:nonfinite(), st.self_hits)
   local bad = ref:nonfinite() > 0 or st.self_hits > 0
   for _, v in ipairs(VARIANTS) do
     local built, img, vst = pcall(function()
-      return small(scene:transformed(v[2], v[3]), opts)
+      return small(plain, scene:transformed(v[2], v[3]), opts)
     end)
     if not built then     -- beyond double's range: as unstable as can be
       line("  %-13s cannot be rendered: %s  UNSTABLE", v[1], tostring(img):gsub("^.-: ", ""))
@@ -58,7 +55,6 @@ function M.render(scene, opts)
     ::next::
   end
   if bad then M.unstable = M.unstable + 1 end
-  over.check = true
   return ref, st
 end
 

@@ -36,7 +36,7 @@ function M.format(st, label)
   return table.concat(out, "\n")
 end
 
--- Called by render when `lancer --stats` set lancer.overrides.stats.
+-- Called for each render by the lancer command's host hook under --stats.
 M.count = 0
 function M.report(st)
   M.count = M.count + 1

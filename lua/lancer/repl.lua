@@ -9,7 +9,11 @@ local lancer = require "lancer"
 local preview = require "lancer.preview"
 local anim = require "lancer.anim"
 
-local M = {save = "out/repl_%03d.png", preview = true, tty = false, saved = 0}
+local M = {save = "out/repl_%03d.png", preview = true, tty = false}
+
+-- The last number each save pattern used: a new pattern starts from its own
+-- first free number, and going back to one goes on after its last.
+local last = {}
 
 -- Replaced by the lancer command with one that asks the terminal.
 function M.terminal_size() return nil end
@@ -39,13 +43,14 @@ local function exists(path)
   return f ~= nil
 end
 
--- The next numbered path not taken yet, creating its folder.
+-- The next numbered path of the pattern not taken yet, creating its folder.
 local function next_path()
-  local path
+  local pattern, n, path = M.save, last[M.save] or 0, nil
   repeat
-    M.saved = M.saved + 1
-    path = M.save:format(M.saved)
-  until not exists(path) or not M.save:find("%", 1, true)
+    n = n + 1
+    path = pattern:format(n)
+  until not exists(path) or not pattern:find("%", 1, true)
+  last[pattern] = n
   local dir = path:match("^(.*)/[^/]*$")
   if dir and not os.rename(dir, dir) then
     os.execute("mkdir -p '" .. dir:gsub("'", [['\'']]) .. "' 2>/dev/null")
@@ -53,7 +58,7 @@ local function next_path()
   return path
 end
 
--- lancer.overrides.on_render: called by every render made at the prompt.
+-- lancer.host.on_render: called by every render made at the prompt.
 function M.on_render(img, stats)
   if M.preview and not no_preview() then draw(img) end
   if M.save and not anim.busy then       -- animate saves its own frames
@@ -107,7 +112,7 @@ end
 function M.start(tty, terminal_size)
   M.tty = tty
   if terminal_size then M.terminal_size = terminal_size end
-  lancer.overrides.on_render = M.on_render
+  require("lancer.host").on_render = M.on_render
   lancer.repl = M
   _G.lancer = _G.lancer or lancer
   _G.show = _G.show or M.show

@@ -142,7 +142,8 @@ function T.run_script(script, out, frames, size, on_render)
   local methods = T.scene_methods()
   local render = methods.render
   local renders = 0
-  local saved_overrides, saved_arg, saved_print = lancer.overrides, arg, print
+  local anim = require "lancer.anim"
+  local saved_options, saved_arg, saved_print = anim.options, arg, print
   methods.render = function(self, opts)
     local o = {}
     for k, v in pairs(opts or {}) do o[k] = v end
@@ -153,7 +154,7 @@ function T.run_script(script, out, frames, size, on_render)
     if on_render then on_render(img, stats, renders) end
     return img, stats
   end
-  lancer.overrides = {frames = frames}
+  anim.options = {frames = frames}
   arg = type(out) == "table" and out or {[0] = script, [1] = out}
   print = function() end              -- scripts report what they wrote; not here
   local saved_stderr = io.stderr
@@ -164,7 +165,7 @@ function T.run_script(script, out, frames, size, on_render)
   end)
   methods.render = render
   io.stderr = saved_stderr
-  lancer.overrides = saved_overrides
+  anim.options = saved_options
   arg = saved_arg
   print = saved_print
   if not ok then error(err, 0) end

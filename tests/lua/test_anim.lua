@@ -122,12 +122,43 @@ T.test("--frames outside the animation, or no animation, exit 2", function()
   check_exit(code, 2, out, err)
   T.eq(err, "lancer: option '--frames': 10-14 is outside the animation's frames 1-12; " ..
        "try 'lancer --help'\n", "stderr")
+  -- named as typed: --frame, not --frames
+  out, err, code = T.run(("%s --frames 2 --frame 30 %s %s"):format(L, q(script),
+    q(dir .. "/f_%04d.png")))
+  check_exit(code, 2, out, err)
+  T.eq(err, "lancer: option '--frame': frame 30 is outside the animation's frames 1-12; " ..
+       "try 'lancer --help'\n", "stderr for --frame 30")
   local plain = dir .. "/plain.lua"
   write(plain, "print('no animation here')\n")
   out, err, code = T.run(("%s --shard 0/2 %s"):format(L, q(plain)))
   check_exit(code, 2, out, err)
   has(err, "lancer: option '--shard' needs a script that calls lancer.animate{...}; " ..
       plain .. " does not")
+  rm(dir)
+end)
+
+T.test("frame options on a still script: exit 2 before anything is written", function()
+  local dir = temp_dir()
+  local still, blank = dir .. "/still.lua", dir .. "/blank.lua"
+  write(still, [[
+local lancer = require "lancer"
+local s = lancer.scene{camera = lancer.camera{from = {0, 0, -3}, at = {0, 0, 0}}}
+s:add(lancer.sphere{center = {0, 0, 0}, radius = 1})
+s:render{width = 8, height = 8}:save(arg[1])
+print("rendered")
+]])
+  write(blank, "require('lancer').image{width = 2, height = 2}:save(arg[1])\n")
+  for _, c in ipairs{{"--frame 3", still, "renders"}, {"--list-frames", still, "renders"},
+                     {"--shard 0/2", blank, "saves an image"}} do
+    local out, err, code = T.run(("%s %s %s %s"):format(L, c[1], q(c[2]),
+                                                        q(dir .. "/x.png")))
+    assert(not io.open(dir .. "/x.png"), c[1] .. ": x.png written")
+    T.eq(out, "", c[1] .. ": stdout")
+    check_exit(code, 2, out, err)
+    T.eq(err, ("lancer: option '%s' needs a script that calls lancer.animate{...}; " ..
+               "%s %s outside one; try 'lancer --help'\n"):format(c[1]:match("^%S+"),
+               c[2], c[3]), c[1] .. ": stderr")
+  end
   rm(dir)
 end)
 
@@ -212,13 +243,14 @@ local function tiny_scene()
   return s
 end
 
--- Runs lancer.animate with stderr silenced and fresh overrides.
-local function animate(spec, over)
-  local saved_over, saved_err = lancer.overrides, io.stderr
-  lancer.overrides = over or {}
+-- Runs lancer.animate with stderr silenced and these frame options (what
+-- lancer.host gives lancer.anim under the lancer command).
+local function animate(spec, options)
+  local saved_options, saved_err = anim.options, io.stderr
+  anim.options = options or {}
   io.stderr = {write = function() end, flush = function() end}
   local ok, res = pcall(lancer.animate, spec)
-  lancer.overrides, io.stderr = saved_over, saved_err
+  anim.options, io.stderr = saved_options, saved_err
   if not ok then error(res, 0) end
   return res
 end

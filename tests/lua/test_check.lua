@@ -67,6 +67,30 @@ T.test("--check: a script that renders nothing, or fails, is not called stable",
   T.eq(code, 1, "a script error is a script error")
 end)
 
+T.test("--check and --accuracy never write the images the script saves", function()
+  local dir = T.temp_dir()
+  local path = dir .. "/s.lua"
+  local f = assert(io.open(path, "w"))
+  f:write((STABLE:gsub("s:render{width = 64, height = 64}\n$",
+    "s:render{width = 64, height = 64}:save(arg[1])\n" ..
+    "lancer.image{width = 2, height = 2}:save(arg[2])\n")))
+  f:close()
+  local final, fresh = dir .. "/final.png", dir .. "/fresh.png"
+  for _, opts in ipairs{"--check", "--accuracy --knob samples=1,2 --seeds 2 --out " ..
+                                   T.quote(dir .. "/acc")} do
+    T.write(final, "the user's own picture")
+    local _, err, code = T.run(("%s %s %s %s %s"):format(T.lancer, opts, T.quote(path),
+                                                         T.quote(final), T.quote(fresh)))
+    T.eq(code, 0, opts .. ": exit status; stderr: " .. err)
+    T.eq(T.slurp(final), "the user's own picture", opts .. ": final.png overwritten")
+    T.eq(T.slurp(fresh), nil, opts .. ": fresh.png written")
+    local tool = opts:match("^%-%-(%a+)")
+    assert(err:find(tool .. ": not writing " .. final, 1, true), err)
+  end
+  assert(T.slurp(dir .. "/acc/s-2-samples.png"), "--accuracy's own plot not written")
+  os.execute("rm -rf " .. T.quote(dir))
+end)
+
 T.test("scene:transformed moves the camera, scales sizes and light intensity", function()
   local s = lancer.scene{camera = lancer.camera{from = {0, 1, -4}, at = {0, 0.5, 0}}}
   s:add(lancer.sphere{center = {0, 1, 0}, radius = 1})

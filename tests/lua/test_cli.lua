@@ -19,6 +19,13 @@ T.test("--help prints usage, examples first, to stdout", function()
   assert(ex and opts and ex < opts, "examples should come before the options")
 end)
 
+-- A search-replace once put C names in the help (host_report).
+T.test("--help reads as prose: --check reports differing pixels", function()
+  local out = T.run(lancer .. " --help")
+  has(out, "away; report differing pixels, NaN and self-hits")
+  assert(not out:find("host_", 1, true), "a C name in --help:\n" .. out)
+end)
+
 T.test("--version prints lancer 0.1.0 and Lua's version", function()
   local out, err, code = T.run(lancer .. " --version")
   check_exit(code, 0, out, err)
@@ -67,6 +74,13 @@ T.test("-e runs a string, and may be repeated before a script", function()
   T.eq(out, "42\n", "stdout")
 end)
 
+T.test("-e code finds lancer loaded, as the prompt does", function()
+  local out, err, code = T.run(lancer .. " -e " .. q("print(lancer.version, " ..
+    "lancer == require 'lancer')"))
+  check_exit(code, 0, out, err)
+  T.eq(out, "0.1.0\ttrue\n", "stdout")
+end)
+
 T.test("a runtime error exits 1 with script:LINE: and a traceback", function()
   local path = write_temp("local x = 1\nerror('boom')\n")
   local out, err, code = T.run(lancer .. " " .. path)
@@ -75,6 +89,27 @@ T.test("a runtime error exits 1 with script:LINE: and a traceback", function()
   has(err, path .. ":2: boom", "stderr")
   has(err, "stack traceback", "stderr")
   T.eq(out, "", "stdout")
+end)
+
+-- Lua names a function in a traceback after the first loaded module table
+-- holding it, in an order that changes from run to run.
+T.test("a traceback names 'lancer.sphere', 'lancer.lerp' in every run", function()
+  local names = {}
+  for _, call in ipairs{"lancer.sphere{radius = -1}", "lancer.lerp(1, {}, 0.5)",
+                        "lancer.animate{frames = 0}"} do
+    local path = write_temp("local lancer = require 'lancer'\n" .. call .. "\n")
+    for _ = 1, 10 do
+      local out, err, code = T.run(lancer .. " " .. path)
+      check_exit(code, 1, out, err)
+      names[err:match("in function '(lancer[%w_.]*)'") or "none"] = true
+    end
+    os.remove(path)
+  end
+  local seen = {}
+  for k in pairs(names) do seen[#seen + 1] = k end
+  table.sort(seen)
+  T.eq(table.concat(seen, ", "), "lancer.animate, lancer.lerp, lancer.sphere",
+       "names in 30 tracebacks")
 end)
 
 T.test("an error on stdin is reported as stdin:LINE:", function()
@@ -97,6 +132,34 @@ T.test("an unknown option exits 2 naming it, on one line", function()
   has(err, "try 'lancer --help'", "stderr")
   T.eq(select(2, err:gsub("\n", "")), 1, "lines on stderr")
   T.eq(out, "", "stdout")
+end)
+
+T.test("a misspelt option gets a did-you-mean hint, exit 2", function()
+  for _, c in ipairs{{"--widht 100", "--widht", "--width"},
+                     {"--sample=4", "--sample", "--samples"},
+                     {"--frmes 1-3", "--frmes", "--frames"},
+                     {"--chek", "--chek", "--check"}} do
+    local out, err, code = T.run(lancer .. " " .. c[1] .. " x.lua")
+    check_exit(code, 2, out, err)
+    T.eq(err, ("lancer: unknown option '%s'; did you mean '%s'?\n"):format(c[2], c[3]),
+         c[1] .. ": stderr")
+  end
+end)
+
+-- Lua's convention: what follows the script is the script's, options too.
+T.test("an option after the script goes to it, with a note on stderr", function()
+  local path = write_temp("print(select('#', ...), ...)\n")
+  local out, err, code = T.run(lancer .. " " .. path .. " out.png --width 100 --stats")
+  check_exit(code, 0, out, err)
+  T.eq(out, "4\tout.png\t--width\t100\t--stats\n", "the script's arguments")
+  T.eq(err, "lancer: note: '--width' comes after the script, so the script gets it; " ..
+       "put options before the script\n", "stderr")
+  out, err, code = T.run(lancer .. " " .. path .. " --verbose -x out.png")
+  os.remove(path)
+  check_exit(code, 0, out, err)
+  T.eq(err, "", "no note for what is no lancer option")
+  out = T.run(lancer .. " --help")
+  has(out, "lancer scene.lua out.png --width 100", "--help")
 end)
 
 T.test("bad or missing option values exit 2 naming the flag", function()
@@ -141,12 +204,41 @@ T.test("require 'lancer' works with no files beside the command", function()
   T.eq(out, "table\t0.1.0\ttable\n", "stdout")
 end)
 
-T.test("--width 32 --height 16 set require('lancer').overrides", function()
-  local out, err, code = T.run(lancer .. " --width 32 --height=16 -e " ..
-    q("local o = require('lancer').overrides; " ..
-      "print(o.width, o.height, o.samples, math.type(o.width))"))
-  check_exit(code, 0, out, err)
-  T.eq(out, "32\t16\tnil\tinteger\n", "stdout")
+T.test("--width, --height and --samples beyond the core's limits exit 2 at once", function()
+  local path = write_temp("error('the script ran')\n")
+  for _, c in ipairs{{"--width 70000", "'--width': must be in [1, 65536], got 70000"},
+                     {"--height=65537", "option '--height': must be in [1, 65536]"},
+                     {"--samples 2000000", "option '--samples': must be in [1, "}} do
+    local out, err, code = T.run(lancer .. " " .. c[1] .. " " .. path)
+    check_exit(code, 2, out, err)
+    has(err, c[2], c[1])
+    has(err, "try 'lancer --help'", c[1])
+  end
+  os.remove(path)
+end)
+
+-- The script explains a pixel of its 64x48 render: under --width 8
+-- --height 4 it is the pixel of the 8x4 render the command makes, and a
+-- pixel outside that is an error at the script's own line.
+T.test("--width and --height size explain as they size render", function()
+  local scene = [[
+local lancer = require "lancer"
+local s = lancer.scene{camera = lancer.camera{from = {0, 0, -5}, at = {0, 0, 0}}}
+s:add(lancer.sphere{center = {0, 0, 0}, radius = 1})
+]]
+  local path = write_temp(scene .. [[
+local t = s:explain{x = 7, y = 2, width = 64, height = 48}
+print(("%.9f %.9f %.9f"):format(table.unpack(t.direction)))
+s:explain{x = 9, y = 2, width = 64, height = 48}
+]])
+  local out, err, code = T.run(lancer .. " --width 8 --height 4 " .. path)
+  os.remove(path)
+  check_exit(code, 1, out, err)
+  local L = require "lancer"
+  local s = L.scene{camera = L.camera{from = {0, 0, -5}, at = {0, 0, 0}}}
+  local d = s:explain{x = 7, y = 2, width = 8, height = 4}.direction
+  T.eq(out, ("%.9f %.9f %.9f\n"):format(d[1], d[2], d[3]), "the 8x4 render's ray")
+  has(err, path .. ":6: bad argument #1 to 'explain' (field 'x'", "stderr")
 end)
 
 T.test("--width and --height win over what the script renders", function()
@@ -204,6 +296,20 @@ T.test("REPL: an unfinished statement reads more lines", function()
   os.execute("rm -rf " .. q(home))
   has(out, ">> ")
   assert(out:find("\n10\r?\n20\r?\n30\r?\n"), "no 10, 20, 30 in:\n" .. out)
+end)
+
+-- The README's transcript: s:add(...) over three lines prints the scene.
+T.test("REPL: an expression over several lines prints its value too", function()
+  local home = temp_dir()
+  local out = repl({"s = lancer.scene{}\n",
+                    "s:add(lancer.plane{point = {0, 0, 0}, normal = {0, 1, 0}},\n",
+                    "lancer.sphere{center = {0, 1, 0}, radius = 1},\n",
+                    "lancer.point_light{position = {3, 5, -4}, intensity = 40})\n",
+                    "math.max(1,\n", "2) + 40\n"}, home)
+  os.execute("rm -rf " .. q(home))
+  assert(out:find("\nlancer%.Scene %(2 shapes, 1 lights%)\r?\n"),
+         "no lancer.Scene line after the multi-line s:add in:\n" .. out)
+  assert(out:find("\n42\r?\n"), "no 42 line in:\n" .. out)
 end)
 
 T.test("REPL: history is written and read back next session", function()

@@ -513,7 +513,9 @@ end)
 T.test("scene.max_depth = -1 is rejected", function()
   local s = lancer.scene{}
   T.check_error(function() s.max_depth = -1 end, HERE, "scene.max_depth",
-                "integer in [0, 1000000] expected, got -1")
+                "must be in [0, 1000000], got -1")
+  T.check_error(function() s.max_depth = 1 << 40 end, HERE, "scene.max_depth",
+                "integer in [0, 1000000] expected, got 1099511627776")
   T.check_error(function() s.max_depth = 1.5 end, HERE, "scene.max_depth",
                 "integer in [0, 1000000] expected, got 1.5")
   T.check_error(function() s.max_depth = "3" end, HERE, "scene.max_depth",
@@ -674,13 +676,13 @@ T.test("render: seed must be a non-negative integer", function()
                 "'render'", "field 'seed'", "non-negative integer expected, got 1.5")
 end)
 
-T.test("lancer.overrides with a bad size is reported at render", function()
+-- The range is the core's rule (lc_render_options_check); its message names it.
+T.test("render: cutoff must be in [0, 1]", function()
   local s = fixtures().scene
-  lancer.overrides.width = 0
-  local ok, err = pcall(T.check_error, function() s:render{width = 2, height = 2} end,
-                        HERE, "lancer.overrides.width", "got 0")
-  lancer.overrides.width = nil
-  assert(ok, err)
+  T.check_error(function() s:render{width = 2, height = 2, cutoff = 2} end, HERE,
+                "bad argument #1 to 'render'", "field 'cutoff'", "must be in [0, 1], got 2")
+  T.check_error(function() s:render{width = 2, height = 2, cutoff = -0.5} end, HERE,
+                "'render'", "field 'cutoff'", "got -0.5")
 end)
 
 -- ---- images ----------------------------------------------------------------------

@@ -221,6 +221,33 @@ T.test("scene:remove(x) draws what the scene built without x draws", function()
   T.check_error(function() s:remove("x") end, HERE, "id, entry of scene:objects()")
 end)
 
+-- The scene stores a plane's normal made unit; remove(shape) compares the
+-- shape as the scene stores it, field by field, for every kind.
+T.test("scene:remove(shape) finds each kind by value, a plane by its stored normal", function()
+  local shapes = {
+    lancer.plane{point = {0, -1, 0}, normal = {0, 3, 0}},
+    lancer.plane{point = {0, 0, 4}, normal = {1, 2, 3}},
+    lancer.quad{corner = {0, 0, 0}, u = {1, 0, 0}, v = {0, 1, 0}},
+    lancer.box{corner = {0, 0, 0}, u = {1, 0, 0}, v = {0, 2, 0}, w = {0, 0, 3}},
+    lancer.box{min = {2, 0, 0}, max = {3, 1, 1}},
+    lancer.sphere{center = {1, 2, 3}, radius = 0.5},
+  }
+  local s = lancer.scene{}
+  s:add(shapes)
+  local kinds = {}
+  for i, o in ipairs(s:objects()) do kinds[i] = o.kind end
+  T.eq(table.concat(kinds, " "), "plane plane quad box box sphere", "kinds listed")
+  T.eq(tostring(s:objects()[2].object), "lancer.plane{point = {0, 0, 4}, normal = " ..
+       "{0.267261, 0.534522, 0.801784}}", "the plane as stored")
+  for i = #shapes, 1, -1 do
+    s:remove(shapes[i])
+    T.eq(#s:objects(), i - 1, "objects after removing shape " .. i)
+  end
+  s:add(lancer.sphere{center = {1, 2, 3}, radius = 0.5})
+  T.check_error(function() s:remove(lancer.sphere{center = {1, 2, 3}, radius = 0.25}) end,
+                HERE, "'remove'", "radius = 0.25} is not in this scene")
+end)
+
 -- ---- interpolation ----------------------------------------------------------------
 
 T.test("lerp and smoothstep: exact ends, closed-form midpoints", function()

@@ -162,3 +162,29 @@ T.test("ls(scene): one line per object, records by their fields", function()
   T.eq(printed[3], "  " .. tostring(lancer.point_light{position = {1, 2, 3}, intensity = 5}),
        "object with __tostring")
 end)
+
+T.test("repl.save: a new pattern starts at its own next free number", function()
+  local repl = require "lancer.repl"
+  local dir = temp_dir()
+  local img = flat(2, 2, 0.5)
+  local printed = {}
+  local saved_print, saved_save, saved_preview = print, repl.save, repl.preview
+  print = function(...) printed[#printed + 1] = table.concat({...}, "\t") end
+  repl.preview = false
+  local ok, err = pcall(function()
+    repl.save = dir .. "/out/repl_%03d.png"
+    for _ = 1, 3 do repl.on_render(img, {seconds = 0}) end
+    repl.save = dir .. "/renders/%03d.png"       -- an empty folder
+    repl.on_render(img, {seconds = 0})
+    repl.save = dir .. "/out/repl_%03d.png"      -- back: after the three there
+    repl.on_render(img, {seconds = 0})
+  end)
+  print, repl.save, repl.preview = saved_print, saved_save, saved_preview
+  assert(ok, err)
+  local names = {}
+  for i, line in ipairs(printed) do names[i] = line:match("^saved " .. dir:gsub("%p", "%%%0") ..
+                                                          "/(%S+)") or line end
+  T.eq(table.concat(names, " "), "out/repl_001.png out/repl_002.png out/repl_003.png " ..
+       "renders/001.png out/repl_004.png", "paths saved")
+  os.execute("rm -rf " .. q(dir))
+end)

@@ -1,16 +1,16 @@
-/* lua_progress.c: a progress bar on stderr for renders longer than a second. */
+/* progress_bar.c: a progress bar on stderr for renders longer than a second. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include "lua_progress.h"
+#include "progress_bar.h"
 #include "clock.h"
 
 #define DELAY   1.0    /* when automatic, short renders stay quiet */
 #define REDRAW  0.1    /* at most ten redraws a second */
 #define WIDTH   30
 
-void lua_progress_begin(lua_progress *p, int enabled)
+void progress_bar_begin(progress_bar *p, int enabled)
 {
     memset(p, 0, sizeof *p);
     p->delay = enabled < 0 ? DELAY : 0;     /* asked for: shown from the start */
@@ -22,9 +22,9 @@ void lua_progress_begin(lua_progress *p, int enabled)
     p->start = p->last = clock_seconds();
 }
 
-int lua_progress_update(void *ud, double done)
+int progress_bar_update(void *ud, double done)
 {
-    lua_progress *p = ud;
+    progress_bar *p = ud;
     double t = clock_seconds(), elapsed = t - p->start;
     if (!p->enabled || elapsed < p->delay || (p->shown && t - p->last < REDRAW))
         return 0;
@@ -44,7 +44,7 @@ int lua_progress_update(void *ud, double done)
     return 0;
 }
 
-void lua_progress_end(lua_progress *p)
+void progress_bar_end(progress_bar *p)
 {
     if (p->shown) {                 /* leave the line clean for what follows */
         fputs("\r\033[K", stderr);

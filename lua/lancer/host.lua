@@ -1,0 +1,124 @@
+-- lancer.host: the lancer command's policy, kept out of the binding. The
+-- command calls setup(options) once with its parsed command line, which
+-- installs M.hook as the host hook (lancer.set_host_hook, see
+-- src/lua_hook.c); after the script it calls finish() for its exit status.
+-- The hook:
+--   * renders and explains at --width, --height, --samples;
+--   * hands each render to lancer.check (--check) or lancer.accuracy
+--     (--accuracy), and then writes none of the images the script saves:
+--     its files stay as they were (check and accuracy write their own);
+--   * prints each render's ledger (--stats), and gives each render to
+--     M.on_render (the prompt's preview and save, lua/lancer/repl.lua);
+--   * with frame options, refuses renders and saves outside lancer.animate
+--     (a usage error, exit 2) before anything is written.
+-- Stock lua5.4 never loads this module: require "lancer" sets no hook.
+local lancer = require "lancer"
+local anim = require "lancer.anim"
+
+-- setup's options: width, height, samples (integers or nil), check, stats,
+-- repl (the prompt follows the script), code (-e code is run), script (its
+-- name, or nil for -e code), anim (the frame options, as lancer.anim.options
+-- reads them, plus first: the first frame option given) and accuracy
+-- ({knobs, seeds, out, script}, for lancer.accuracy.setup).
+local M = {options = {}}
+
+local function say(msg)
+  io.stderr:write("lancer: ", msg, "; try 'lancer --help'\n")
+  io.stderr:flush()
+end
+
+-- A usage error found while the script runs: the command exits 2 at once.
+function M.usage(msg)
+  say(msg)
+  os.exit(2, true)
+end
+
+-- The options as the script gave them, with the command line's sizes.
+local function sized(opts)
+  local o = M.options
+  if not (o.width or o.height or o.samples) then return opts end
+  local t = {}
+  for k, v in pairs(opts) do t[k] = v end
+  t.width, t.height, t.samples = o.width or t.width, o.height or t.height,
+                                 o.samples or t.samples
+  return t
+end
+
+-- Frame options select frames of a lancer.animate: an image made outside
+-- one is not what they ask for, so the command stops before making it
+-- (not at the prompt, where renders are the point).
+local function outside_animation(method)
+  local o = M.options
+  if o.anim and not o.repl and not anim.busy then
+    M.usage(("option '%s' needs a script that calls lancer.animate{...}; %s %s " ..
+             "outside one"):format(o.anim.first, o.script or "the code run",
+             method == "save" and "saves an image" or "renders"))
+  end
+end
+
+-- The host hook (src/lua_hook.c): method is "render", "explain" or "save";
+-- what is the options table, or save's path.
+function M.hook(method, plain, self, what, ...)
+  local o = M.options
+  if method == "explain" then return plain(self, sized(what)) end
+  outside_animation(method)
+  if method == "save" then
+    if (o.check or o.accuracy) and not M.diverted then
+      local tool = o.check and "check" or "accuracy"
+      io.stderr:write(("%s: not writing %s (--%s writes none of the script's " ..
+                       "images)\n"):format(tool, what, tool))
+      return self
+    end
+    return plain(self, what, ...)
+  end
+  local img, st
+  if o.check or o.accuracy then
+    -- What check and accuracy save themselves (accuracy's plot) is theirs.
+    M.diverted = true
+    local ok
+    if o.check then
+      ok, img, st = pcall(require("lancer.check").render, self, sized(what), plain)
+    else
+      ok, img, st = pcall(require("lancer.accuracy").render, self, what, plain, o)
+    end
+    M.diverted = false
+    if not ok then error(img, 0) end
+  else
+    img, st = plain(self, sized(what))
+  end
+  if o.stats then require("lancer.ledger").report(st) end
+  if M.on_render then M.on_render(img, st) end
+  return img, st
+end
+
+-- Called by the lancer command before the script: true, or nil and a
+-- one-line usage error.
+function M.setup(options)
+  M.options = options
+  if options.accuracy then
+    local ok, why = require("lancer.accuracy").setup(options.accuracy)
+    if not ok then return nil, why end
+  end
+  if options.anim then
+    anim.options, anim.usage = options.anim, M.usage
+  end
+  lancer.set_host_hook(M.hook)
+  if options.code then _G.lancer = _G.lancer or lancer end   -- as at the prompt
+  return true
+end
+
+-- After the script (before the prompt, if any): the exit status the command
+-- ends with; 0 goes on. --check's verdict is 3 when unstable.
+function M.finish()
+  local o = M.options
+  if o.anim and not o.repl and anim.count == 0 then
+    say(("option '%s' needs a script that calls lancer.animate{...}; %s does not")
+      :format(o.anim.first, o.script or "the code run"))
+    return 2
+  end
+  if o.check and not require("lancer.check").finish() then return 3 end
+  if o.accuracy and not require("lancer.accuracy").finish() then return 1 end
+  return 0
+end
+
+return M

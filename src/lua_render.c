@@ -1,0 +1,193 @@
+/* lua_render.c: scene:render: its options, the statistics table, the render. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <lauxlib.h>
+#include <lua.h>
+#include "lancer.h"
+#include "lua_fields.h"
+#include "lua_types.h"
+#include "progress_bar.h"
+#include "clock.h"
+
+static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
+{
+    lua_createtable(L, 0, 16);
+    lua_pushnumber(L, lua_seconds);
+    lua_setfield(L, -2, "lua_seconds");
+    lua_pushinteger(L, (lua_Integer)st->prim_tests);
+    lua_setfield(L, -2, "prim_tests");
+    lua_pushinteger(L, (lua_Integer)st->node_tests);
+    lua_setfield(L, -2, "node_tests");
+    lua_pushnumber(L, st->seconds);
+    lua_setfield(L, -2, "seconds");
+    lua_pushnumber(L, st->compile_seconds);
+    lua_setfield(L, -2, "compile_seconds");
+    lua_pushnumber(L, st->trace_seconds);
+    lua_setfield(L, -2, "trace_seconds");
+    lua_pushinteger(L, st->threads);
+    lua_setfield(L, -2, "threads");
+    lua_pushinteger(L, (lua_Integer)st->bvh_nodes);
+    lua_setfield(L, -2, "bvh_nodes");
+    lua_pushinteger(L, (lua_Integer)st->primitives);
+    lua_setfield(L, -2, "primitives");
+    lua_pushinteger(L, (lua_Integer)st->degenerate);
+    lua_setfield(L, -2, "degenerate");
+    lua_pushinteger(L, (lua_Integer)st->self_hits);
+    lua_setfield(L, -2, "self_hits");
+    lua_pushinteger(L, (lua_Integer)st->samples);
+    lua_setfield(L, -2, "samples");
+    lua_pushinteger(L, (lua_Integer)st->converged);
+    lua_setfield(L, -2, "converged");
+    lua_createtable(L, 0, LC_RAY_KINDS);
+    for (int k = 0; k < LC_RAY_KINDS; k++) {
+        lua_pushinteger(L, (lua_Integer)st->rays[k]);
+        lua_setfield(L, -2, lc_ray_kind_name((lc_ray_kind)k));
+    }
+    lua_setfield(L, -2, "rays");
+    lua_newtable(L);
+    for (unsigned bit = 1; bit < 1u << LC_NEEDS; bit <<= 1) {
+        lua_pushboolean(L, (st->needs & bit) != 0);
+        lua_setfield(L, -2, lc_need_name(bit));
+    }
+    lua_setfield(L, -2, "effects");
+    lua_newtable(L);
+    for (int k = 0; k < LC_NEEDS; k++) {
+        lua_pushstring(L, st->why[k]);
+        lua_setfield(L, -2, lc_need_name(1u << k));
+    }
+    lua_setfield(L, -2, "why");
+    if (st->warning[0]) {
+        lua_pushstring(L, st->warning);
+        lua_setfield(L, -2, "warning");
+    }
+}
+
+static const char *const sampler_opts[] = {"sobol", "jitter", "random", NULL};
+
+void render_read_options(lua_State *L, int arg, lc_render_options *o)
+{
+    *o = lc_render_options_default();
+    o->width = lf_integer(L, arg, "width", 0, o->width);
+    o->height = lf_integer(L, arg, "height", 0, o->height);
+    o->samples = lf_integer(L, arg, "samples", 0, o->samples);
+    o->seed = 0;
+    if (lua_getfield(L, arg, "seed") != LUA_TNIL) {
+        int isint;
+        if (lua_type(L, -1) != LUA_TNUMBER)
+            lf_error(L, arg, "seed", "number expected, got %s", luaL_typename(L, -1));
+        double x = lua_tonumber(L, -1);
+        if (isnan(x))
+            lf_error(L, arg, "seed", "NaN is not a number here");
+        lua_Integer seed = lua_tointegerx(L, -1, &isint);
+        if (!isint || seed < 0)
+            lf_error(L, arg, "seed", "non-negative integer expected, got %s",
+                     luaL_tolstring(L, -1, NULL));
+        o->seed = (uint64_t)seed;
+    }
+    lua_pop(L, 1);
+    o->threads = lf_integer(L, arg, "threads", 0, 0);
+    o->cosine = lf_boolean(L, arg, "cosine", 1);
+    o->shadows = lf_boolean(L, arg, "shadows", 1);
+    o->reflections = lf_boolean(L, arg, "reflections", 1);
+    o->specular = lf_boolean(L, arg, "specular", 1);
+    o->generic = lf_boolean(L, arg, "generic", 0);
+    o->cutoff = lf_number(L, arg, "cutoff", 0, o->cutoff);
+    int frame = lf_integer(L, arg, "frame", 0, 0);
+    if (frame < 0)
+        lf_error(L, arg, "frame", "must be >= 0, got %d", frame);
+    o->frame = (uint32_t)frame;
+    o->sampler = (lc_sampler)lf_option(L, arg, "sampler", sampler_opts, (int)o->sampler);
+    o->light_samples = lf_integer(L, arg, "light_samples", 0, o->light_samples);
+    o->cone_samples = lf_integer(L, arg, "cone_samples", 0, o->cone_samples);
+    o->max_depth = lf_integer(L, arg, "max_depth", 0, o->max_depth);
+    o->noise = lf_number(L, arg, "noise", 0, o->noise);
+    o->min_samples = lf_integer(L, arg, "min_samples", 0, o->min_samples);
+    o->glossy = lf_boolean(L, arg, "glossy", 1);
+}
+
+/* Checks render's arguments: the scene at 1, the options at 2 (a table
+** afterwards); the options in *o and whether to draw progress in *show. */
+static ud_scene *render_args(lua_State *L, lc_render_options *o, int *show, int plain)
+{
+    static const char *const known[] = {RENDER_OPTIONS, "progress", NULL};
+    ud_scene *u = scene_check(L, 1);
+    lua_settop(L, 2);
+    if (lua_isnil(L, 2)) {
+        lua_newtable(L);
+        lua_replace(L, 2);
+    }
+    lf_open(L, 2, known);
+    render_read_options(L, 2, o);
+    *show = lf_present(L, 2, "progress") ? lf_boolean(L, 2, "progress", 0) : -1;
+    lc_error err;
+    if (lc_render_options_check(o, &err))
+        hook_raise(L, plain, 2, &err);
+    return u;
+}
+
+/* Renders: pushes the image and the statistics. */
+static int render_work(lua_State *L, ud_scene *u, lc_render_options *o, int show,
+                       int plain)
+{
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    ui->img = NULL;
+    luaL_setmetatable(L, IMAGE);
+    lc_stats st;
+    lc_error err;
+    progress_bar bar;
+    progress_bar_begin(&bar, show);
+    o->progress = progress_bar_update;
+    o->progress_ud = &bar;
+    double lua_seconds = clock_seconds() - u->mark;
+    ui->img = lc_scene_render(u->s, o, &st, &err);
+    u->mark = clock_seconds();
+    progress_bar_end(&bar);
+    if (!ui->img) {
+        if (strcmp(err.field, "camera") == 0)
+            return hook_fail(L, plain, 0, "render: the scene has no camera (set "
+                             "scene.camera = lancer.camera{...})");
+        return hook_raise(L, plain, 2, &err);
+    }
+    push_stats(L, &st, lua_seconds);
+    return 2;
+}
+
+/* The hook's plain render (lua_hook.c). */
+static int render_plain(lua_State *L)
+{
+    lc_render_options o;
+    int show;
+    ud_scene *u = render_args(L, &o, &show, 1);
+    return render_work(L, u, &o, show, 1);
+}
+
+/* scene:render{width = , height = , samples = , ...}: img, stats. The
+** warning in the statistics it returns (the hook's, when one is set: once
+** for each render the script asked for) goes to stderr on one line. */
+static int w_scene_render(lua_State *L)
+{
+    lc_render_options o;
+    int show;
+    ud_scene *u = render_args(L, &o, &show, 0);
+    int n = hook_call(L, "render", render_plain, 2);
+    if (n < 0)
+        n = render_work(L, u, &o, show, 0);
+    if (n >= 2 && lua_type(L, -n + 1) == LUA_TTABLE) {
+        if (lua_getfield(L, -n + 1, "warning") == LUA_TSTRING) {
+            fprintf(stderr, "lancer: warning: %s\n", lua_tostring(L, -1));
+            fflush(stderr);
+        }
+        lua_pop(L, 1);
+    }
+    return n;
+}
+
+void render_register(lua_State *L)
+{
+    static const luaL_Reg methods[] = {{"render", w_scene_render}, {NULL, NULL}};
+    luaL_getmetatable(L, SCENE);
+    lua_getfield(L, -1, "methods");
+    luaL_setfuncs(L, methods, 0);
+    lua_pop(L, 2);
+}

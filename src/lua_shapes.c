@@ -1,0 +1,215 @@
+/* lua_shapes.c: the Lua side of shapes: constructors over per-kind field tables. */
+#include <stddef.h>
+#include <string.h>
+#include <lauxlib.h>
+#include <lua.h>
+#include "lancer.h"
+#include "lua_fields.h"
+#include "lua_types.h"
+
+/* Each kind's fields, in the order the constructor reads them and
+** __tostring writes them; each names the lc_shape member that holds it.
+** __tostring, __index, scene:objects() and scene:remove() read this table
+** and nothing else about a kind, so a new kind adds its row here, its
+** constructor below and its entry in shapes_register's list. Kind names
+** are the core's (lc_shape_kind_name). */
+typedef enum { FIELD_VEC3, FIELD_NUMBER } field_type;
+
+typedef struct {
+    const char *name;          /* NULL ends a kind's list */
+    size_t      offset;        /* of its member in lc_shape */
+    field_type  type;
+} shape_field;
+
+#define VEC3(name, member)   {name, offsetof(lc_shape, member), FIELD_VEC3}
+#define NUMBER(name, member) {name, offsetof(lc_shape, member), FIELD_NUMBER}
+#define MAX_FIELDS 4
+
+static const shape_field kind_fields[LC_SHAPE_KINDS][MAX_FIELDS + 1] = {
+    [LC_SPHERE] = {VEC3("center", p), NUMBER("radius", radius)},
+    [LC_QUAD]   = {VEC3("corner", p), VEC3("u", u), VEC3("v", v)},
+    [LC_BOX]    = {VEC3("corner", p), VEC3("u", u), VEC3("v", v), VEC3("w", w)},
+    [LC_PLANE]  = {VEC3("point", p), VEC3("normal", u)},
+};
+
+static lc_vec3 *vec3_of(lc_shape *s, const shape_field *f)
+{
+    return (lc_vec3 *)((char *)s + f->offset);
+}
+
+static double *number_of(lc_shape *s, const shape_field *f)
+{
+    return (double *)((char *)s + f->offset);
+}
+
+/* The field of that kind named k, or NULL. */
+static const shape_field *field_named(lc_shape_kind kind, const char *k)
+{
+    for (const shape_field *f = kind_fields[kind]; f->name; f++)
+        if (strcmp(f->name, k) == 0)
+            return f;
+    return NULL;
+}
+
+/* ---- constructors ------------------------------------------------------------ */
+
+/* Checks that the table at 1 holds only the kind's fields, `extra` (at most
+** two other field names, NULL-terminated) and material. */
+static void shape_open(lua_State *L, lc_shape_kind kind, const char *const extra[])
+{
+    const char *known[MAX_FIELDS + 4];
+    int n = 0;
+    for (const shape_field *f = kind_fields[kind]; f->name; f++)
+        known[n++] = f->name;
+    for (int i = 0; extra && extra[i] && i < 2; i++)
+        known[n++] = extra[i];
+    known[n++] = "material";
+    known[n] = NULL;
+    lf_open(L, 1, known);
+}
+
+/* Reads every field of the shape's kind from the table at 1, each required. */
+static void shape_read(lua_State *L, lc_shape *s)
+{
+    for (const shape_field *f = kind_fields[s->kind]; f->name; f++) {
+        if (f->type == FIELD_VEC3)
+            *vec3_of(s, f) = lf_vec3(L, 1, f->name, 1, *vec3_of(s, f));
+        else
+            *number_of(s, f) = lf_number(L, 1, f->name, 1, 0);
+    }
+}
+
+/* Validates, then pushes the shape userdata holding `s` and its material. */
+static int shape_push_checked(lua_State *L, const lc_shape *s)
+{
+    lf_udata(L, 1, "material", MATERIAL, 0);        /* pushes it, or nil */
+    lc_error err;
+    if (lc_shape_check(s, &err))
+        return lf_raise(L, 1, &err);
+    shapes_push(L, s, -1);
+    return 1;
+}
+
+/* lancer.<kind>{its fields, material = }: every field required. */
+static int shape_new(lua_State *L, lc_shape_kind kind)
+{
+    shape_open(L, kind, NULL);
+    lc_shape s;
+    memset(&s, 0, sizeof s);
+    s.kind = kind;
+    shape_read(L, &s);
+    return shape_push_checked(L, &s);
+}
+
+static int w_sphere(lua_State *L) { return shape_new(L, LC_SPHERE); }
+static int w_quad(lua_State *L) { return shape_new(L, LC_QUAD); }
+static int w_plane(lua_State *L) { return shape_new(L, LC_PLANE); }
+
+/* lancer.box{corner, u, v, w} or lancer.box{min = , max = } (axis-aligned). */
+static int w_box(lua_State *L)
+{
+    static const char *const corners[] = {"min", "max", NULL};
+    shape_open(L, LC_BOX, corners);
+    lc_shape s;
+    memset(&s, 0, sizeof s);
+    s.kind = LC_BOX;
+    if (!lf_present(L, 1, "min") && !lf_present(L, 1, "max")) {
+        shape_read(L, &s);
+        return shape_push_checked(L, &s);
+    }
+    for (const shape_field *f = kind_fields[LC_BOX]; f->name; f++)
+        if (lf_present(L, 1, f->name))
+            return lf_error(L, 1, f->name, "give either min and max, or corner "
+                            "and u, v, w, not both");
+    lc_vec3 lo = lf_vec3(L, 1, "min", 1, s.p), hi = lf_vec3(L, 1, "max", 1, s.p);
+    double l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+    for (int i = 0; i < 3; i++)
+        if (!(h[i] > l[i]))
+            return lf_error(L, 1, "max", "component %d must be > min's, got %g <= %g",
+                            i + 1, h[i], l[i]);
+    s.p = lo;
+    s.u.x = hi.x - lo.x;
+    s.v.y = hi.y - lo.y;
+    s.w.z = hi.z - lo.z;
+    return shape_push_checked(L, &s);
+}
+
+/* ---- what every kind shares ------------------------------------------------ */
+
+void shapes_push(lua_State *L, const lc_shape *s, int mat)
+{
+    mat = lua_absindex(L, mat);
+    ud_shape *u = lua_newuserdatauv(L, sizeof *u, 1);
+    u->s = *s;
+    lua_pushvalue(L, mat);
+    lua_setiuservalue(L, -2, 1);
+    luaL_setmetatable(L, SHAPE);
+}
+
+int shapes_match(const lc_shape *added, const lc_shape *listed)
+{
+    lc_shape a, b = *listed;
+    lc_error err;
+    if (added->kind != listed->kind || lc_shape_stored(added, &a, &err))
+        return 0;
+    for (const shape_field *f = kind_fields[a.kind]; f->name; f++) {
+        if (f->type == FIELD_NUMBER && *number_of(&a, f) != *number_of(&b, f))
+            return 0;
+        if (f->type == FIELD_VEC3) {
+            lc_vec3 x = *vec3_of(&a, f), y = *vec3_of(&b, f);
+            if (x.x != y.x || x.y != y.y || x.z != y.z)
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* lancer.sphere{center = {0, 0, 0}, radius = 1}: the fields as given. */
+static int w_shape_tostring(lua_State *L)
+{
+    lc_shape s = ((ud_shape *)luaL_checkudata(L, 1, SHAPE))->s;
+    luaL_Buffer b;
+    luaL_buffinit(L, &b);
+    luaL_addstring(&b, "lancer.");
+    luaL_addstring(&b, lc_shape_kind_name(s.kind));
+    luaL_addstring(&b, "{");
+    for (const shape_field *f = kind_fields[s.kind]; f->name; f++) {
+        if (f != kind_fields[s.kind])
+            luaL_addstring(&b, ", ");
+        if (f->type == FIELD_VEC3) {
+            lf_add_vec3(&b, f->name, *vec3_of(&s, f));
+        } else {
+            luaL_addstring(&b, f->name);
+            luaL_addstring(&b, " = ");
+            lf_add_number(&b, *number_of(&s, f));
+        }
+    }
+    luaL_addstring(&b, "}");
+    luaL_pushresult(&b);
+    return 1;
+}
+
+static int w_shape_index(lua_State *L)
+{
+    lc_shape s = ((ud_shape *)luaL_checkudata(L, 1, SHAPE))->s;
+    const char *k = luaL_checkstring(L, 2);
+    const shape_field *f = field_named(s.kind, k);
+    if (f && f->type == FIELD_VEC3) lf_push_vec3(L, *vec3_of(&s, f));
+    else if (f) lua_pushnumber(L, *number_of(&s, f));
+    else if (strcmp(k, "kind") == 0) lua_pushstring(L, lc_shape_kind_name(s.kind));
+    else if (strcmp(k, "material") == 0) lua_getiuservalue(L, 1, 1);
+    else if (strcmp(k, "moved") == 0) lua_pushcfunction(L, motion_moved);
+    else lua_pushnil(L);
+    return 1;
+}
+
+void shapes_register(lua_State *L)
+{
+    static const luaL_Reg shape_meta[] = {
+        {"__tostring", w_shape_tostring}, {"__index", w_shape_index}, {NULL, NULL}};
+    static const luaL_Reg funcs[] = {
+        {"sphere", w_sphere}, {"quad", w_quad}, {"box", w_box}, {"plane", w_plane},
+        {NULL, NULL}};
+    lancer_class(L, SHAPE, shape_meta, NULL);
+    luaL_setfuncs(L, funcs, 0);
+}
