@@ -22,11 +22,17 @@ typedef struct {
                        ** placements share their triangles' ids */
 } hit;
 
-/* Shadow rays stop this fraction short of their target, so a light sitting
-** exactly on a surface is not hidden by that surface. Relative, hence the
-** same at every scale (pbrt-v4's ShadowEpsilon, tighter because we are in
-** double). Tested by the light-on-surface cases. */
-#define SHADOW_SHORTEN 1e-9
+/* How far a shadow ray from o goes toward a light `reach` away: short of it
+** by the rounding error of the distances there (that of reach itself, and
+** of the distance to a surface through the light, each a few roundings of
+** |o| + |light| <= 2 |o| + reach), so a light sitting exactly on a surface
+** is not hidden by it, while a wall any farther than that from the light
+** still blocks it (a light 1e-12 of the scene inside a box leaves the
+** outside dark; a fixed 1e-9 of the distance let it shine through). */
+static inline double shadow_reach(lc_vec3 o, double reach)
+{
+    return reach - vec_gamma(32) * (2 * v3_max_abs(o) + 2 * reach);
+}
 
 /* A point just off the surface on the side of w, provably not behind it
 ** (pbrt-v4's OffsetRayOrigin). */

@@ -13,7 +13,7 @@ lc_image *lc_image_new(int width, int height, lc_error *err)
                 "image size must be 1..%d per side, got %dx%d", LC_MAX_SIDE, width, height);
         return NULL;
     }
-    size_t n = (size_t)width * (size_t)height;      /* both <= 65536: no overflow */
+    size_t n = (size_t)width * (size_t)height;      /* both <= 2^20: no overflow */
     if (n > LC_MAX_PIXELS) {
         error_fail(err, LC_EARG, "width", "image of %dx%d exceeds %zu pixels",
                 width, height, LC_MAX_PIXELS);

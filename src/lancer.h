@@ -299,7 +299,7 @@ typedef struct {
 
 #define LC_MAX_SAMPLES (1 << 20)      /* camera samples per pixel */
 #define LC_MAX_THREADS 256
-#define LC_MAX_SIDE   65536
+#define LC_MAX_SIDE   (1 << 20)      /* 1048576: a 70000 x 1 panorama strip fits */
 #define LC_MAX_PIXELS ((size_t)1 << 28)  /* 268M pixels, 3 GiB of floats */
 
 #define LC_MAX_LIGHT_SAMPLES 4096

@@ -35,7 +35,7 @@ static void add_light(const tracer *t, const lc_material *m, unsigned plan, lc_v
 
 /* One shadow ray toward a light `reach` away along l: spawned off h,
 ** counted as `kind`, recorded while explaining (as light `light`), then
-** tested for anything in the way before it stops SHADOW_SHORTEN short.
+** tested for anything in the way before it stops at shadow_reach.
 ** aim: the seed's emitters, whose ray goes from the spawned origin straight
 ** at *aim, and is blocked only when something nearer than the emitter
 ** `skip` itself is hit; otherwise any hit on a primitive but `skip` blocks
@@ -56,7 +56,7 @@ ALWAYS_INLINE int shadow_ray(tracer *t, const hit *h, lc_vec3 l, double reach,
     t->rays[kind]++;
     if (t->log)
         *rec = explain_shadow(t->log, kind, &sr, light, reach);
-    double tmax = reach * (1 - SHADOW_SHORTEN);
+    double tmax = shadow_reach(sr.o, reach);
     int blocked;
     if (aim) {
         hit blk;
@@ -86,8 +86,9 @@ static void point_lights(tracer *t, const hit *h, const lc_material *m, unsigned
         double cosl = v3_dot(n, l);
         if (!(cosl > 0))            /* behind the surface: no shadow ray at all */
             continue;
-        /* From the offset origin along l: the offset is a few ulps of |p|,
-        ** far inside SHADOW_SHORTEN, so the ray still stops short of L. */
+        /* From the offset origin along l, as far as d: the offset is a few
+        ** ulps of |p|, inside what shadow_reach leaves, so the ray still
+        ** stops short of L. */
         int rec;
         if (!shadow_ray(t, h, l, d, NULL, LC_RAY_SHADOW, (int)i, INTERSECT_SKIP_NONE, &rec))
             continue;

@@ -44,7 +44,7 @@ radiance shade_ray(tracer *t, const ray *r, uint32_t index, uint32_t count)
             continue;
         ray sr = {spawn_origin(&h, l), l};
         t->rays[LC_RAY_SHADOW]++;
-        if (intersect_occluded(s, &sr, d * (1 - SHADOW_SHORTEN), &t->counts))
+        if (intersect_occluded(s, &sr, shadow_reach(sr.o, d), &t->counts))
             continue;
         double k = L->intensity;
         if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)

@@ -206,8 +206,8 @@ end)
 
 T.test("--width, --height and --samples beyond the core's limits exit 2 at once", function()
   local path = write_temp("error('the script ran')\n")
-  for _, c in ipairs{{"--width 70000", "'--width': must be in [1, 65536], got 70000"},
-                     {"--height=65537", "option '--height': must be in [1, 65536]"},
+  for _, c in ipairs{{"--width 2000000", "'--width': must be in [1, 1048576], got 2000000"},
+                     {"--height=1048577", "option '--height': must be in [1, 1048576]"},
                      {"--samples 2000000", "option '--samples': must be in [1, "}} do
     local out, err, code = T.run(lancer .. " " .. c[1] .. " " .. path)
     check_exit(code, 2, out, err)

@@ -628,20 +628,32 @@ T.test("render without a camera says so", function()
                 "camera")
 end)
 
-T.test("render: width must be in [1, 65536]", function()
+T.test("render: width must be in [1, 1048576]", function()
   local s = fixtures().scene
-  for _, w in ipairs{0, -1, 70000} do
+  for _, w in ipairs{0, -1, 1048577} do
     T.check_error(function() s:render{width = w, height = 4} end, HERE,
-                  "bad argument #1 to 'render'", "field 'width'", "[1, 65536]", "got " .. w)
+                  "bad argument #1 to 'render'", "field 'width'", "[1, 1048576]", "got " .. w)
   end
 end)
 
-T.test("render: height must be in [1, 65536]", function()
+T.test("render: height must be in [1, 1048576]", function()
   local s = fixtures().scene
-  for _, h in ipairs{0, -1, 70000} do
+  for _, h in ipairs{0, -1, 1048577} do
     T.check_error(function() s:render{width = 4, height = h} end, HERE,
-                  "bad argument #1 to 'render'", "field 'height'", "[1, 65536]", "got " .. h)
+                  "bad argument #1 to 'render'", "field 'height'", "[1, 1048576]", "got " .. h)
   end
+end)
+
+T.test("render: a 70000 x 1 panorama strip renders and saves", function()
+  local s = fixtures().scene
+  local img = s:render{width = 70000, height = 1}
+  T.eq(img.width, 70000, "width")
+  local path = os.tmpname() .. ".png"
+  img:save(path)
+  local back = lancer.load_png(path)
+  os.remove(path)
+  T.eq(back.width, 70000, "width read back")
+  T.eq(back.height, 1, "height read back")
 end)
 
 T.test("render: width times height is bounded", function()

@@ -1084,6 +1084,32 @@ local function lifted(build, cam, L, n, what)
   return a
 end
 
+T.test("H16 a light 1e-12 inside a closed box leaves the outside dark; on its face it shines",
+       function()
+  -- A wall at x = 3 faces the box's +x face (x = 1) from outside; the camera
+  -- between them looks at the wall. Shadow rays from the wall toward the
+  -- light cross the box's face 1e-12 before the light: blocked.
+  local function wall_lit(lx)
+    local sc = lancer.scene{camera = lancer.camera{from = {2.5, 0, 0}, at = {3, 0, 0},
+                                                   fov = 60}}
+    sc:add(lancer.box{min = {-1, -1, -1}, max = {1, 1, 1}})
+    sc:add(lancer.plane{point = {3, 0, 0}, normal = {-1, 0, 0}})
+    sc:add(lancer.point_light{position = {lx, 0, 0}, intensity = 10})
+    local img = sc:render{width = 9, height = 9}
+    local lit = 0
+    for y = 1, 9 do
+      for x = 1, 9 do
+        if img:pixel(x, y) > 0 then lit = lit + 1 end
+      end
+    end
+    return lit
+  end
+  T.eq(wall_lit(1 - 1e-12), 0, "pixels lit by a light 1e-12 inside the box")
+  T.eq(wall_lit(1 - 1e-3), 0, "pixels lit by a light 1e-3 inside the box")
+  T.eq(wall_lit(1), 81, "pixels lit by a light exactly on the box's face")
+  T.eq(wall_lit(1 + 1e-12), 81, "pixels lit by a light 1e-12 outside the box")
+end)
+
 T.test("H16 point light exactly on a plane, a sphere, a mesh vertex: 0 NaN, = lifted", function()
   local Ia = 0.05
   -- on the plane y = 0, seen from straight above: the centre pixel's hit
