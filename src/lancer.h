@@ -376,8 +376,12 @@ lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding e
 ** any other extension is refused, naming it, rather than written as PNG. */
 lc_status lc_image_save(const lc_image *img, const char *path, lc_encoding enc,
                         lc_error *err);
-/* Reads any PNG; pixels are decoded from sRGB, or taken as stored (v / max)
-** with LC_ENCODE_LINEAR. Alpha is dropped, grey becomes RGB. */
+/* Reads any PNG (every colour type and bit depth, palettes, tRNS,
+** interlacing). LC_ENCODE_SRGB decodes to linear light as the file's
+** gAMA/sRGB chunks say (none: sRGB), transparency composited onto black,
+** as libpng's own reader does; LC_ENCODE_LINEAR takes the samples as stored,
+** v / (2^depth - 1), and drops alpha. Grey becomes RGB. Sizes past
+** LC_MAX_SIDE or LC_MAX_PIXELS are refused, naming the cap. */
 lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err);
 
 typedef struct {

@@ -1,4 +1,5 @@
-/* png.c: writing images as 8-bit PNG through libpng, atomically. */
+/* png.c: writing images as 8-bit PNG through libpng, atomically, and reading
+** any PNG back. */
 #include <errno.h>
 #include <math.h>
 #include <png.h>
@@ -46,6 +47,7 @@ static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const
         return error_fail(err, LC_EIO, NULL, "cannot write '%s': %s", path,
                        fail.msg[0] ? fail.msg : "out of memory");
     }
+    png_set_user_limits(png, LC_MAX_SIDE, LC_MAX_SIDE);
     png_init_io(png, fp);
     /* zlib level 3 with the Sub filter: about a third of the default's time
     ** for files about a third larger (measured on B1, 1280x720). */
@@ -125,16 +127,83 @@ lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding e
     return st;
 }
 
-/* Decodes one sample of depth 8 or 16 as stored, or from sRGB. */
-static float decode(unsigned v, unsigned max, lc_encoding enc)
+/* Refuses a header whose size passes lancer's caps, naming them (before any
+** pixel memory is asked for: "out of memory" would not say why). */
+static lc_status check_size(png_uint_32 w, png_uint_32 h, const char *path, lc_error *err)
 {
-    double x = (double)v / max;
-    if (enc == LC_ENCODE_SRGB)
-        x = x <= 0.04045 ? x / 12.92 : pow((x + 0.055) / 1.055, 2.4);
-    return (float)x;
+    if (w == 0 || h == 0)
+        return error_fail(err, LC_EIO, "path", "cannot read '%s': a %lux%lu image",
+                          path, (unsigned long)w, (unsigned long)h);
+    if (w > LC_MAX_SIDE || h > LC_MAX_SIDE)
+        return error_fail(err, LC_EARG, "path", "cannot read '%s': %lux%lu is more than "
+                          "lancer's %d pixels a side", path, (unsigned long)w,
+                          (unsigned long)h, LC_MAX_SIDE);
+    if ((size_t)w * h > LC_MAX_PIXELS)
+        return error_fail(err, LC_EARG, "path", "cannot read '%s': %lux%lu is more than "
+                          "lancer's %zu pixels", path, (unsigned long)w, (unsigned long)h,
+                          LC_MAX_PIXELS);
+    return LC_OK;
 }
 
-lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
+/* Decoded: libpng's own reader (its simplified API) turns every colour
+** type, bit depth, palette, tRNS, interlacing and gAMA/sRGB/cHRM into 16-bit
+** linear light, composited onto black where the file is transparent; a
+** file that says nothing of its encoding is sRGB. */
+static lc_image *load_decoded(const char *path, lc_error *err)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp) {
+        error_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
+        return NULL;
+    }
+    png_image pi;
+    memset(&pi, 0, sizeof pi);
+    pi.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_stdio(&pi, fp)) {
+        error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path, pi.message);
+        png_image_free(&pi);
+        fclose(fp);
+        return NULL;
+    }
+    if (check_size(pi.width, pi.height, path, err)) {
+        png_image_free(&pi);
+        fclose(fp);
+        return NULL;
+    }
+    pi.format = PNG_FORMAT_LINEAR_RGB;
+    lc_image *img = lc_image_new((int)pi.width, (int)pi.height, err);
+    uint16_t *buf = img ? mem_alloc(PNG_IMAGE_SIZE(pi)) : NULL;
+    if (!buf) {
+        if (img)
+            error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' (%lux%lu)", path,
+                       (unsigned long)pi.width, (unsigned long)pi.height);
+        png_image_free(&pi);
+        fclose(fp);
+        lc_image_free(img);
+        return NULL;
+    }
+    int ok = png_image_finish_read(&pi, NULL, buf, 0, NULL);
+    fclose(fp);
+    if (!ok) {
+        error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path, pi.message);
+        png_image_free(&pi);
+        mem_free(buf);
+        lc_image_free(img);
+        return NULL;
+    }
+    size_t n = 3 * (size_t)pi.width * pi.height;
+    for (size_t i = 0; i < n; i++)
+        img->px[i] = (float)(buf[i] / 65535.0);
+    mem_free(buf);
+    png_image_free(&pi);
+    error_ok(err);
+    return img;
+}
+
+/* As stored: every sample v / (2^depth - 1), whatever the file says of its
+** encoding (data, or linear files without a gAMA chunk); palettes and low
+** bit depths expanded, alpha (and tRNS) dropped, interlaced passes merged. */
+static lc_image *load_stored(const char *path, lc_error *err)
 {
     FILE *fp = fopen(path, "rb");
     if (!fp) {
@@ -146,23 +215,27 @@ lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
                                              on_png_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     lc_image *volatile img = NULL;
-    unsigned char *volatile row = NULL;
+    unsigned char *volatile pixels = NULL;
+    png_bytep *volatile rows = NULL;
+    lc_status volatile refused = LC_OK;
     if (!png || !info || setjmp(png_jmpbuf(png))) {
         png_destroy_read_struct(png ? &png : NULL, info ? &info : NULL, NULL);
         fclose(fp);
-        mem_free(row);
+        mem_free(rows);
+        mem_free(pixels);
         lc_image_free(img);
-        error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path,
-                fail.msg[0] ? fail.msg : "out of memory");
+        if (!refused)
+            error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path,
+                       fail.msg[0] ? fail.msg : "out of memory");
         return NULL;
     }
+    png_set_user_limits(png, LC_MAX_SIDE, LC_MAX_SIDE);
     png_init_io(png, fp);
     png_read_info(png, info);
     png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
     int depth = png_get_bit_depth(png, info), type = png_get_color_type(png, info);
-    if (w > LC_MAX_SIDE || h > LC_MAX_SIDE)
-        png_error(png, "image too large");
-    /* Everything to 8- or 16-bit RGB, values as stored: no gamma handling. */
+    if ((refused = check_size(w, h, path, err)) != LC_OK)
+        png_error(png, "refused");
     if (type == PNG_COLOR_TYPE_PALETTE)
         png_set_palette_to_rgb(png);
     if (type == PNG_COLOR_TYPE_GRAY || type == PNG_COLOR_TYPE_GRAY_ALPHA)
@@ -175,26 +248,41 @@ lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
         png_set_tRNS_to_alpha(png), png_set_strip_alpha(png);
     if (depth == 16)
         png_set_swap(png);             /* PNG is big-endian; read native order */
+    png_set_interlace_handling(png);   /* Adam7: every pass lands in place */
     png_read_update_info(png, info);
     int bytes = png_get_bit_depth(png, info) == 16 ? 2 : 1;
+    size_t rowbytes = png_get_rowbytes(png, info);
     img = lc_image_new((int)w, (int)h, err);
-    if (!img)
+    if (!img) {
+        refused = LC_ENOMEM;
         png_error(png, "out of memory");
-    row = mem_alloc(png_get_rowbytes(png, info));
-    if (!row)
+    }
+    pixels = mem_alloc(rowbytes * h);
+    rows = mem_alloc(h * sizeof *rows);
+    if (!pixels || !rows)
         png_error(png, "out of memory");
+    for (png_uint_32 y = 0; y < h; y++)
+        rows[y] = pixels + y * rowbytes;
+    png_read_image(png, rows);
+    png_read_end(png, NULL);
+    double max = bytes == 2 ? 65535 : 255;
     for (png_uint_32 y = 0; y < h; y++) {
-        png_read_row(png, row, NULL);
         float *dst = img->px + (size_t)y * w * 3;
         for (png_uint_32 i = 0; i < 3 * w; i++) {
-            unsigned v = bytes == 2 ? ((const uint16_t *)(const void *)row)[i] : row[i];
-            dst[i] = decode(v, bytes == 2 ? 65535 : 255, enc);
+            unsigned v = bytes == 2 ? ((const uint16_t *)(const void *)rows[y])[i]
+                                    : rows[y][i];
+            dst[i] = (float)(v / max);
         }
     }
-    png_read_end(png, NULL);
     png_destroy_read_struct(&png, &info, NULL);
     fclose(fp);
-    mem_free(row);
+    mem_free(rows);
+    mem_free(pixels);
     error_ok(err);
     return img;
+}
+
+lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
+{
+    return enc == LC_ENCODE_SRGB ? load_decoded(path, err) : load_stored(path, err);
 }
