@@ -373,9 +373,17 @@ uint8_t   lc_encode_channel(float linear, lc_encoding enc); /* clamp, encode, ro
 lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding enc,
                             lc_error *err);             /* temp file, then rename */
 /* Saves in the format the path's extension names (.png, case-insensitive);
-** any other extension is refused, naming it, rather than written as PNG. */
+** any other extension is refused, naming it, rather than written as PNG.
+** Saves are atomic: the image goes to TARGET.tmp-HOST-PID-XXXXXX, renamed
+** over TARGET once whole; a target that is not a regular file (a device,
+** a FIFO, a directory) is refused; a symbolic link is saved through; the
+** temporaries a killed save left on this host are removed by the next save
+** of that target. */
 lc_status lc_image_save(const lc_image *img, const char *path, lc_encoding enc,
                         lc_error *err);
+/* Removes the temporaries of the saves in progress: for a SIGTERM or SIGINT
+** handler, before the process dies. Async-signal-safe. */
+void      lc_save_abandon(void);
 /* Reads any PNG (every colour type and bit depth, palettes, tRNS,
 ** interlacing). LC_ENCODE_SRGB decodes to linear light as the file's
 ** gAMA/sRGB chunks say (none: sRGB), transparency composited onto black,

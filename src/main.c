@@ -59,11 +59,20 @@ static void lstop(lua_State *L, lua_Debug *ar)
     luaL_error(L, "interrupted!");
 }
 
+/* A signal that ends the process: the temporaries of saves in progress go
+** first (nothing half-written is left), then the signal's default. */
+static void on_fatal_signal(int sig)
+{
+    lc_save_abandon();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
 static void laction(int sig)
 {
     int flag = LUA_MASKCALL | LUA_MASKRET | LUA_MASKLINE | LUA_MASKCOUNT;
     (void)sig;
-    host_set_sigint(SIG_DFL, NULL);  /* a second Ctrl-C kills */
+    host_set_sigint(on_fatal_signal, NULL);  /* a second Ctrl-C kills */
     lc_interrupt();     /* a render stops; the binding raises "render cancelled" */
     lua_sethook(globalL, lstop, flag, 1);
 }
@@ -377,6 +386,9 @@ int main(int argc, char **argv)
     memset(&cl, 0, sizeof cl);
     cl.argc = argc;
     cl.argv = argv;
+    signal(SIGTERM, on_fatal_signal);
+    signal(SIGHUP, on_fatal_signal);
+    signal(SIGXFSZ, SIG_IGN);     /* past ulimit -f a write fails, and says so */
     if (argc < 1 || argv[0] == NULL) {      /* exec with no argv[0] */
         fprintf(stderr, "lancer: no program name\n");
         return 2;

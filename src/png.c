@@ -10,6 +10,7 @@
 #include <unistd.h>
 #include "error.h"
 #include "image.h"
+#include "save.h"
 #include "mem.h"
 
 /* libpng reports errors by longjmp; the message is kept for lc_error. */
@@ -42,10 +43,11 @@ static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const
     png_infop info = png_create_info_struct(png);
     unsigned char *volatile row = NULL;
     if (!info || setjmp(png_jmpbuf(png))) {
+        int why = ferror(fp) ? errno : 0;       /* a failed fwrite: say why */
         png_destroy_write_struct(&png, info ? &info : NULL);
         mem_free(row);
-        return error_fail(err, LC_EIO, NULL, "cannot write '%s': %s", path,
-                       fail.msg[0] ? fail.msg : "out of memory");
+        return error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path,
+                          why ? strerror(why) : fail.msg[0] ? fail.msg : "out of memory");
     }
     png_set_user_limits(png, LC_MAX_SIDE, LC_MAX_SIDE);
     png_init_io(png, fp);
@@ -77,54 +79,19 @@ static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const
 }
 
 /* The image goes to a temporary file beside the target, is flushed to disk,
-** and only then renamed over it: a crash or a full disk never leaves a
-** truncated PNG, and an existing file survives any failure. */
+** and only then renamed over it (save.c): a crash or a full disk never leaves
+** a truncated PNG, and an existing file survives any failure. */
 lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding enc,
                             lc_error *err)
 {
-    size_t n = strlen(path);
-    if (n == 0)
-        return error_fail(err, LC_EARG, "path", "file name is empty");
-    char *tmp = mem_alloc(n + 16);
-    if (!tmp)
-        return error_fail(err, LC_ENOMEM, NULL, "out of memory writing '%s'", path);
-    memcpy(tmp, path, n);
-    memcpy(tmp + n, ".tmp-XXXXXX", 12);
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        lc_status st = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path,
-                               strerror(errno));
-        mem_free(tmp);
-        return st;
+    save_file sf;
+    if (save_begin(&sf, path, err))
+        return err ? err->code : LC_EIO;
+    if (write_png(sf.fp, img, enc, path, err)) {
+        save_abort(&sf);
+        return err ? err->code : LC_EIO;
     }
-    FILE *fp = fdopen(fd, "wb");
-    if (!fp) {
-        lc_status st = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path,
-                               strerror(errno));
-        close(fd);
-        unlink(tmp);
-        mem_free(tmp);
-        return st;
-    }
-    lc_status st = write_png(fp, img, enc, path, err);
-    if (st == LC_OK && (fflush(fp) != 0 || fsync(fileno(fp)) != 0))
-        st = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
-    if (fclose(fp) != 0 && st == LC_OK)
-        st = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
-    /* mkstemp makes the file 0600; a PNG is meant to be shared like any file. */
-    if (st == LC_OK) {
-        mode_t um = umask(0);
-        umask(um);
-        chmod(tmp, 0666 & ~um);
-    }
-    if (st == LC_OK && rename(tmp, path) != 0)
-        st = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", path, strerror(errno));
-    if (st != LC_OK)
-        unlink(tmp);
-    else
-        error_ok(err);
-    mem_free(tmp);
-    return st;
+    return save_commit(&sf, err);
 }
 
 /* Refuses a header whose size passes lancer's caps, naming them (before any

@@ -12,7 +12,12 @@
 #include <string.h>
 #include <unistd.h>
 #include <cmocka.h>
+#include <dirent.h>
 #include <pthread.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <time.h>
 #include "interrupt.h"
 #include "mem.h"
@@ -246,6 +251,178 @@ static void interrupt_stops_the_build(void **state)
     lc_scene_free(s);
 }
 
+/* ---- saving ---------------------------------------------------------------- */
+
+static lc_image *gradient(int w, int h)
+{
+    lc_image *img = lc_image_new(w, h, NULL);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            lc_image_set(img, x, y, (lc_color){(float)x / w, (float)((x * y) % 97) / 97,
+                                               (float)y / h});
+    return img;
+}
+
+/* How many entries of dir hold ".tmp-". */
+static int temporaries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL)
+        n += strstr(e->d_name, ".tmp-") != NULL;
+    closedir(d);
+    return n;
+}
+
+/* Saving over what is not a file is refused and leaves the node as it was
+** (img:save("/dev/null") once renamed a temporary over it). */
+static void save_refuses_what_is_not_a_file(void **state)
+{
+    (void)state;
+    lc_image *img = gradient(4, 4);
+    lc_error err;
+    char dir[] = "/tmp/lancer-save-XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char fifo[128], link[128], file[128];
+    snprintf(fifo, sizeof fifo, "%s/pipe.png", dir);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    assert_int_equal(lc_image_save(img, fifo, LC_ENCODE_SRGB, &err), LC_EARG);
+    assert_non_null(strstr(err.msg, "is a FIFO"));
+    struct stat st;
+    assert_int_equal(stat(fifo, &st), 0);
+    assert_true(S_ISFIFO(st.st_mode));
+    assert_int_equal(lc_image_save_png(img, "/dev/null", LC_ENCODE_SRGB, &err), LC_EARG);
+    assert_non_null(strstr(err.msg, "is a character device"));
+    assert_int_equal(stat("/dev/null", &st), 0);
+    assert_true(S_ISCHR(st.st_mode));
+    /* A link is saved through: the file it names changes, the link stays. */
+    snprintf(file, sizeof file, "%s/real.png", dir);
+    snprintf(link, sizeof link, "%s/latest.png", dir);
+    assert_int_equal(lc_image_save(img, file, LC_ENCODE_SRGB, &err), LC_OK);
+    assert_int_equal(symlink("real.png", link), 0);
+    lc_image *other = gradient(5, 3);
+    assert_int_equal(lc_image_save(other, link, LC_ENCODE_SRGB, &err), LC_OK);
+    assert_int_equal(lstat(link, &st), 0);
+    assert_true(S_ISLNK(st.st_mode));
+    lc_image *back = lc_image_load_png(file, LC_ENCODE_SRGB, &err);
+    assert_non_null(back);
+    assert_int_equal(lc_image_width(back), 5);
+    assert_int_equal(temporaries(dir), 0);
+    lc_image_free(back);
+    lc_image_free(other);
+    lc_image_free(img);
+    unlink(link), unlink(file), unlink(fifo), rmdir(dir);
+}
+
+/* A save killed mid-write: with lc_save_abandon in the SIGTERM handler (the
+** lancer command's), no temporary is left; killed outright (SIGKILL), the
+** next save of that file on this host removes the one left. */
+static void on_term(int sig)
+{
+    (void)sig;
+    lc_save_abandon();
+    _exit(0);
+}
+
+static pid_t saving_child(const char *path, int handler)
+{
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        if (handler)
+            signal(SIGTERM, on_term);
+        lc_image *img = gradient(3000, 3000);
+        for (;;)
+            lc_image_save(img, path, LC_ENCODE_SRGB, NULL);
+    }
+    return pid;
+}
+
+/* Waits (up to 10 s) for a temporary to appear in dir. */
+static void wait_for_temporary(const char *dir)
+{
+    for (int i = 0; i < 10000 && temporaries(dir) == 0; i++) {
+        struct timespec d = {0, 1000000};
+        nanosleep(&d, NULL);
+    }
+    assert_true(temporaries(dir) > 0);
+}
+
+static void killed_saves_leave_nothing(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/lancer-save-XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char path[128];
+    snprintf(path, sizeof path, "%s/frame.png", dir);
+    pid_t pid = saving_child(path, 1);
+    wait_for_temporary(dir);
+    kill(pid, SIGTERM);
+    int status;
+    waitpid(pid, &status, 0);
+    assert_int_equal(temporaries(dir), 0);
+
+    pid = saving_child(path, 0);
+    wait_for_temporary(dir);
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    assert_int_equal(temporaries(dir), 1);     /* SIGKILL cannot be caught */
+    lc_image *img = gradient(8, 8);
+    lc_error err;
+    assert_int_equal(lc_image_save(img, path, LC_ENCODE_SRGB, &err), LC_OK);
+    assert_int_equal(temporaries(dir), 0);     /* the next save tidied it */
+    lc_image_free(img);
+    unlink(path);
+    rmdir(dir);
+}
+
+/* Past ulimit -f the write fails with an error and no temporary, instead of
+** SIGXFSZ killing the process. */
+static void file_size_limit_fails_cleanly(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/lancer-save-XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char path[128];
+    snprintf(path, sizeof path, "%s/big.png", dir);
+    pid_t pid = fork();
+    if (pid == 0) {
+        struct rlimit rl = {100000, 100000};
+        setrlimit(RLIMIT_FSIZE, &rl);
+        lc_image *img = gradient(2000, 2000);
+        lc_error err;
+        lc_status st = lc_image_save(img, path, LC_ENCODE_SRGB, &err);
+        _exit(st == LC_EIO && strstr(err.msg, "File too large") ? 0 : 3);
+    }
+    int status;
+    waitpid(pid, &status, 0);
+    if (!WIFEXITED(status))
+        fail_msg("the save was killed by signal %d", WTERMSIG(status));
+    assert_int_equal(WEXITSTATUS(status), 0);
+    assert_int_equal(temporaries(dir), 0);
+    rmdir(dir);
+}
+
+/* However long the path, the reason why a save failed shows. */
+static void long_paths_keep_the_reason(void **state)
+{
+    (void)state;
+    char path[3000];
+    memset(path, 'd', sizeof path);
+    memcpy(path, "/nonexistent/", 13);
+    strcpy(path + sizeof path - 8, "/x.png");
+    lc_image *img = gradient(2, 2);
+    lc_error err;
+    assert_int_not_equal(lc_image_save(img, path, LC_ENCODE_SRGB, &err), LC_OK);
+    lc_image_free(img);
+    size_t n = strlen(err.msg);
+    if (!(strstr(err.msg, "No such file or directory") || strstr(err.msg, "too long")) ||
+        n >= sizeof err.msg || !strstr(err.msg, "..."))
+        fail_msg("the reason is cut off: %s", err.msg);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -255,6 +432,10 @@ int main(void)
         cmocka_unit_test(memory_cap_refuses_and_recovers),
         cmocka_unit_test(bvh_builds_over_infinite_bounds),
         cmocka_unit_test(interrupt_stops_the_build),
+        cmocka_unit_test(save_refuses_what_is_not_a_file),
+        cmocka_unit_test(killed_saves_leave_nothing),
+        cmocka_unit_test(file_size_limit_fails_cleanly),
+        cmocka_unit_test(long_paths_keep_the_reason),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
