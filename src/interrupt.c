@@ -3,14 +3,15 @@
 #include "interrupt.h"
 #include "lancer.h"
 
-static volatile sig_atomic_t interrupts;
+static sig_atomic_t interrupts;
 
+/* Atomic: bumped from a signal handler or any thread, read by the workers. */
 void lc_interrupt(void)
 {
-    interrupts++;
+    __atomic_add_fetch(&interrupts, 1, __ATOMIC_RELAXED);
 }
 
 sig_atomic_t interrupt_count(void)
 {
-    return interrupts;
+    return __atomic_load_n(&interrupts, __ATOMIC_RELAXED);
 }

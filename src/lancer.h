@@ -7,6 +7,17 @@
 
 #define LC_VERSION "0.1.0"
 
+/* ---- Threads ---------------------------------------------------------------
+** lc_scene_render traces on worker threads of its own. Different scenes may
+** be used on different threads at once, sharing meshes (a mesh's reference
+** count is atomic), as long as no mesh grows while a scene holding it
+** renders. On one scene, renders and explains from several threads take
+** turns (the scene has a lock); its other calls (add, remove, configure,
+** transformed, objects) must not run while it renders on another thread.
+** An image is used by one thread at a time. lc_interrupt, lc_save_abandon,
+** lc_memory_cap and lc_memory_used may be called from any thread; the
+** first two from a signal handler too. */
+
 /* ---- Errors --------------------------------------------------------------- */
 
 typedef enum { LC_OK, LC_EARG, LC_ENOMEM, LC_EIO, LC_ECANCEL } lc_status;

@@ -22,13 +22,14 @@ lc_mesh *lc_mesh_new(lc_error *err)
 
 lc_mesh *mesh_retain(lc_mesh *m)
 {
-    m->refs++;
+    __atomic_add_fetch(&m->refs, 1, __ATOMIC_RELAXED);
     return m;
 }
 
 void lc_mesh_free(lc_mesh *m)
 {
-    if (!m || --m->refs > 0)
+    /* Atomic: scenes on other threads may hold and drop the same mesh. */
+    if (!m || __atomic_sub_fetch(&m->refs, 1, __ATOMIC_ACQ_REL) > 0)
         return;
     mem_free(m->v);
     mem_free(m->n);

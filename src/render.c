@@ -144,8 +144,9 @@ static void render_tile(job *j, tracer *t, int tile)
         }
 }
 
-lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y,
-                           int sample, lc_ray_record **records, size_t *n, lc_error *err)
+static lc_status explain_locked(lc_scene *s, const lc_render_options *o, int x, int y,
+                                int sample, lc_ray_record **records, size_t *n,
+                                lc_error *err)
 {
     *records = NULL;
     *n = 0;
@@ -280,8 +281,8 @@ static void warn(const lc_scene *s, const lc_image *img, lc_stats *st)
              "intensities, and the colours)");
 }
 
-lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
-                          lc_error *err)
+static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats *st,
+                               lc_error *err)
 {
     if (lc_render_options_check(o, err))
         return NULL;
@@ -386,4 +387,25 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
     }
     error_ok(err);
     return img;
+}
+
+/* One render (or explain) of a scene at a time: both compile into the
+** scene. Two threads that render one scene take turns; different scenes
+** render at once, sharing meshes or not. */
+lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
+                          lc_error *err)
+{
+    pthread_mutex_lock(&s->lock);
+    lc_image *img = render_locked(s, o, st, err);
+    pthread_mutex_unlock(&s->lock);
+    return img;
+}
+
+lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y,
+                           int sample, lc_ray_record **records, size_t *n, lc_error *err)
+{
+    pthread_mutex_lock(&s->lock);
+    lc_status st = explain_locked(s, o, x, y, sample, records, n, err);
+    pthread_mutex_unlock(&s->lock);
+    return st;
 }

@@ -30,6 +30,7 @@ lc_scene *lc_scene_new(lc_error *err)
         return NULL;
     }
     s->settings = lc_settings_default();
+    pthread_mutex_init(&s->lock, NULL);
     error_ok(err);
     return s;
 }
@@ -40,6 +41,7 @@ void lc_scene_free(lc_scene *s)
         return;
     compile_free(&s->c);
     instance_free_all(s);
+    pthread_mutex_destroy(&s->lock);
     for (size_t i = 0; i < s->nmeshes; i++) {
         lc_mesh_free(s->meshes[i].mesh);
         mem_free(s->meshes[i].xf);

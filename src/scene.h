@@ -2,6 +2,7 @@
 #ifndef LC_SCENE_H
 #define LC_SCENE_H
 
+#include <pthread.h>
 #include <signal.h>
 #include "bvh.h"
 #include "mesh.h"
@@ -65,6 +66,7 @@ typedef struct {
 #define SCENE_ARRAY(type, name) type *name; size_t n##name, cap##name
 
 struct lc_scene {
+    pthread_mutex_t lock;          /* one render or explain at a time */
     lc_settings settings;
     lc_camera   camera;
     int         has_camera;
