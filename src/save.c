@@ -4,6 +4,7 @@
 #define _XOPEN_SOURCE 700          /* realpath */
 #include <dirent.h>
 #include <errno.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -167,7 +168,18 @@ lc_status save_begin(save_file *sf, const char *path, lc_error *err)
     strcpy(sf->target, path);
     free(target);
     snprintf(sf->tmp, n, "%s%s%s-%ld-XXXXXX", sf->target, TMP_TAG, host, (long)getpid());
+    /* The temporary is made and listed for lc_save_abandon with the fatal
+    ** signals held, so no handler runs between the two (and misses it). */
+    sigset_t fatal, old_mask;
+    sigemptyset(&fatal);
+    sigaddset(&fatal, SIGTERM);
+    sigaddset(&fatal, SIGINT);
+    sigaddset(&fatal, SIGHUP);
+    pthread_sigmask(SIG_BLOCK, &fatal, &old_mask);
     int fd = mkstemp(sf->tmp);
+    if (fd >= 0)
+        sf->slot = claim(sf->tmp);
+    pthread_sigmask(SIG_SETMASK, &old_mask, NULL);
     if (fd < 0) {
         lc_status r = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", sf->target,
                                  strerror(errno));
@@ -176,7 +188,6 @@ lc_status save_begin(save_file *sf, const char *path, lc_error *err)
         save_abort(sf);
         return r;
     }
-    sf->slot = claim(sf->tmp);
     sf->fp = fdopen(fd, "wb");
     if (!sf->fp) {
         lc_status r = error_fail(err, LC_EIO, "path", "cannot write '%s': %s", sf->target,
