@@ -107,6 +107,11 @@ int triangle_hit(const double *v0, const double *v1, const double *v2, const ray
     double det = e0 + e1 + e2;
     if (det == 0)                   /* edge-on, or a degenerate triangle */
         return 0;
+    /* The shear's error (dx, dy below) is of the z it read, before the
+    ** scaling: an instance's object-space ray is not unit (1e-14 long under
+    ** a scale of 1e14), and the scaled z once made the bound refuse every
+    ** hit on a mesh placed at scale 1e14 and up. */
+    double mzr = max2(fabs(z[0]), max2(fabs(z[1]), fabs(z[2])));
     for (int i = 0; i < 3; i++)
         z[i] *= s->sz;
     double ts = e0 * z[0] + e1 * z[1] + e2 * z[2];
@@ -124,7 +129,7 @@ int triangle_hit(const double *v0, const double *v1, const double *v2, const ray
     double mx = max2(fabs(x[0]), max2(fabs(x[1]), fabs(x[2])));
     double my = max2(fabs(y[0]), max2(fabs(y[1]), fabs(y[2])));
     double dz = vec_gamma(3) * mz;
-    double dx = vec_gamma(5) * (mx + mz), dy = vec_gamma(5) * (my + mz);
+    double dx = vec_gamma(5) * (mx + mzr), dy = vec_gamma(5) * (my + mzr);
     double de = 2 * (vec_gamma(2) * mx * my + dy * mx + dx * my);
     double me = max2(fabs(e0), max2(fabs(e1), fabs(e2)));
     double dt = 3 * (vec_gamma(3) * me * mz + de * mz + dz * me) * fabs(inv);

@@ -272,6 +272,32 @@ local function reference()
   return ref_image
 end
 
+T.test("H1 at the ends of the coordinate range: every kind, scaled 1e-28 and 1e28, draws alike",
+       function()
+  -- Quads, triangles and area lights once vanished past 1e+-77 (squares of
+  -- squares); inside the documented range every kind must draw the same.
+  local s = lancer.scene{camera = lancer.camera{from = {0, 1.5, -5}, at = {0, 1, 0}},
+                         ambient = 0.05}
+  local glow = lancer.material{color = {1, 1, 1}, emission = {4, 4, 4}}
+  s:add(lancer.plane{point = {0, 0, 0}, normal = {0, 1, 0}})
+  s:add(lancer.sphere{center = {0, 1, 0}, radius = 1, material = lancer.material{kr = 0.5}})
+  s:add(lancer.quad{corner = {-2, 0, 2}, u = {4, 0, 0}, v = {0, 2, 0}})
+  s:add(lancer.box{min = {1.2, 0, -1}, max = {1.8, 0.6, -0.4}})
+  s:add(lancer.triangle{a = {-2, 0, -1}, b = {-1, 0, -1}, c = {-1.5, 1, -1}})
+  s:add(lancer.triangle{a = {0, 0, 0}, b = {0.5, 0, 0}, c = {0, 0.5, 0}}:moved(
+    lancer.translate(-1, 0.2, -1.5) * lancer.rotate("y", 30)))
+  s:add(lancer.quad{corner = {-0.5, 3, -0.5}, u = {1, 0, 0}, v = {0, 0, 1}, material = glow})
+  s:add(lancer.point_light{position = {2, 4, -3}, intensity = 25})
+  local ref = s:render{width = 64, height = 48, light_samples = 4}
+  no_bad_pixels(ref, "unscaled")
+  for _, k in ipairs{1e-28, 1e28} do
+    local img = s:transformed(k):render{width = 64, height = 48, light_samples = 4}
+    no_bad_pixels(img, "scaled " .. k)
+    local d = img:diff(ref, 1 / 255)
+    T.eq(d.within, 1, ("share of pixels within 1/255 at scale %g"):format(k))
+  end
+end)
+
 T.test("H1 scale invariance 1e-4..1e6 (intensity x s^2): >= 99.9% within 1/255", function()
   for _, s in ipairs{1e-4, 1e-2, 1e2, 1e4, 1e6} do
     invariance(s, 0, reference(), ("scale %g"):format(s))
