@@ -5,71 +5,6 @@
 #include "scene.h"
 #include "mem.h"
 
-/* |a| |b| for 3x3 blocks of transforms. */
-static void abs_product(const lc_transform *a, const lc_transform *b, double out[3][3])
-{
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            out[i][j] = fabs(a->m[i][0]) * fabs(b->m[0][j]) +
-                        fabs(a->m[i][1]) * fabs(b->m[1][j]) +
-                        fabs(a->m[i][2]) * fabs(b->m[2][j]);
-}
-
-/* A hit on an instance is found in object space, where later rays will meet
-** the mesh again after going through `inv`, and reported in the world,
-** where they start. Three roundings separate the two, each bounded here
-** relative to |x| so the bound holds at any scale and offset:
-** - the world vertices M v + t and the ray origins inv x + t' are rounded
-**   (gamma(4) of the products' magnitudes, mapped through |M|);
-** - inv is not exactly M's inverse: M inv - I and M t' + t, computed with
-**   their own rounding, say by how much a point moves on the round trip.
-** Twice each, for the vertices and for the spawned origin. */
-lc_status instance_xf_make(const lc_transform *t, instance_xf *x, lc_error *err)
-{
-    if (lc_transform_inverse(t, &x->inv, err))
-        return LC_EARG;
-    x->xf = *t;
-    for (int i = 0; i < 3; i++)               /* M^-T: outward stays outward */
-        for (int j = 0; j < 3; j++)
-            x->nrm[i][j] = x->inv.m[j][i];
-    double mi[3][3], res[3][3];
-    abs_product(t, &x->inv, mi);
-    lc_transform p = lc_transform_compose(t, &x->inv);
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            res[i][j] = fabs(p.m[i][j] - (i == j)) + vec_gamma(3) * mi[i][j];
-    double g = vec_gamma(4);
-    double s0[3];
-    for (int i = 0; i < 3; i++) {
-        double mt = fabs(t->m[i][0]) * fabs(x->inv.m[0][3]) +
-                    fabs(t->m[i][1]) * fabs(x->inv.m[1][3]) +
-                    fabs(t->m[i][2]) * fabs(x->inv.m[2][3]);
-        double rt = fabs(p.m[i][3]) + vec_gamma(3) * (mt + fabs(t->m[i][3]));
-        s0[i] = 2 * (g * (mt + fabs(t->m[i][3])) + rt);
-        for (int j = 0; j < 3; j++)
-            x->slack[i][j] = 2 * (g * mi[i][j] + res[i][j]);
-    }
-    x->slack0 = v3(s0[0], s0[1], s0[2]);
-    return LC_OK;
-}
-
-static lc_vec3 slack_at(const instance_xf *x, lc_vec3 a)   /* a: componentwise |x| */
-{
-    return v3(x->slack[0][0] * a.x + x->slack[0][1] * a.y + x->slack[0][2] * a.z +
-                  x->slack0.x,
-              x->slack[1][0] * a.x + x->slack[1][1] * a.y + x->slack[1][2] * a.z +
-                  x->slack0.y,
-              x->slack[2][0] * a.x + x->slack[2][1] * a.y + x->slack[2][2] * a.z +
-                  x->slack0.z);
-}
-
-static lc_vec3 mat3_apply(const double m[3][3], lc_vec3 v)
-{
-    return v3(m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
-              m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
-              m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z);
-}
-
 static lc_vec3 vmax(lc_vec3 a, lc_vec3 b)
 {
     return v3(max2(a.x, b.x), max2(a.y, b.y), max2(a.z, b.z));
@@ -248,7 +183,7 @@ void instance_bounds(const lc_scene *s, size_t i, float lo[3], float hi[3])
         big = vmax(big, v3_abs(w));
     }
     /* Wide enough for the surface as rays see it through inv. */
-    lc_vec3 e = slack_at(mp->xf, big);
+    lc_vec3 e = affine_slack(mp->xf, big);
     a = v3_sub(a, e);
     b = v3_add(b, e);
     double lo3[3] = {a.x, a.y, a.z}, hi3[3] = {b.x, b.y, b.z};
@@ -266,10 +201,9 @@ typedef struct {
     triangle_shear sh;
 } object_ray;
 
-static void object_ray_init(object_ray *q, const instance_xf *x, const ray *r)
+static void object_ray_init(object_ray *q, const affine *x, const ray *r)
 {
-    q->r.o = lc_transform_point(&x->inv, r->o);
-    q->r.d = lc_transform_vector(&x->inv, r->d);
+    q->r = affine_ray(x, r);
     bvh_ray_init(&q->b, q->r.o, q->r.d);
     triangle_shear_init(q->r.d, &q->sh);
 }
@@ -289,7 +223,7 @@ static inline int face_hit(const lc_mesh *m, uint32_t f, const object_ray *q, do
 static void to_world(const mesh_prim *mp, const mesh_bvh *mb,
                      uint32_t k, hit *h)
 {
-    const instance_xf *x = mp->xf;
+    const affine *x = mp->xf;
     const lc_mesh *m = mp->mesh;
     const uint32_t *ix = m->f + 3 * (size_t)mb->face[k];
     lc_vec3 p = v3(0, 0, 0), sum = v3(0, 0, 0), big = v3(0, 0, 0);
@@ -302,8 +236,8 @@ static void to_world(const mesh_prim *mp, const mesh_bvh *mb,
         big = vmax(big, v3_abs(w));
     }
     h->p = p;
-    h->perr = v3_add(v3_mul(sum, vec_gamma(7)), slack_at(x, vmax(big, v3_abs(p))));
-    h->n = v3_norm(mat3_apply(x->nrm, h->n));
+    h->perr = v3_add(v3_mul(sum, vec_gamma(7)), affine_slack(x, vmax(big, v3_abs(p))));
+    h->n = affine_normal(x, h->n);
     h->ns = h->n;
     if (m->n) {
         lc_vec3 n = v3(0, 0, 0);
@@ -311,7 +245,7 @@ static void to_world(const mesh_prim *mp, const mesh_bvh *mb,
             const double *nk = m->n + 3 * (size_t)ix[j];
             n = v3_madd(n, v3(nk[0], nk[1], nk[2]), h->bary[j]);
         }
-        n = mat3_apply(x->nrm, n);
+        n = affine_normal_raw(x, n);
         double l = v3_len(n);
         if (l > 0 && isfinite(l)) {
             h->ns = v3_mul(n, 1.0 / l);

@@ -171,7 +171,7 @@ int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *
 }
 
 /* Adds m, moved by xf (taken over) or as it is when xf is NULL. */
-static int add_mesh(lc_scene *s, lc_mesh *m, instance_xf *xf, int material, lc_error *err)
+static int add_mesh(lc_scene *s, lc_mesh *m, affine *xf, int material, lc_error *err)
 {
     if (!check_material(s, material, err)) {
         mem_free(xf);
@@ -211,12 +211,12 @@ int lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t, int 
         return -1;
     if (lc_transform_is_identity(t))
         return add_mesh(s, m, NULL, material, err);
-    instance_xf *xf = mem_alloc(sizeof *xf);
+    affine *xf = mem_alloc(sizeof *xf);
     if (!xf) {
         error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
         return -1;
     }
-    if (instance_xf_make(t, xf, err)) {
+    if (affine_make(t, xf, err)) {
         mem_free(xf);
         return -1;
     }

@@ -4,26 +4,17 @@
 
 #include <pthread.h>
 #include <signal.h>
+#include "affine.h"
 #include "bvh.h"
 #include "mesh.h"
 #include "shape.h"
-
-/* A mesh moved by a transform (instance.c): what a hit needs to go from
-** object space to the world and back, derived once when it is added. */
-typedef struct {
-    lc_transform xf;       /* object to world */
-    lc_transform inv;      /* world to object: rays go through this */
-    double  nrm[3][3];     /* normals: sign(det) cof(M), the inverse transpose */
-    double  slack[3][3];   /* world error of a point x from the round trip through */
-    lc_vec3 slack0;        /* xf and inv: slack |x| + slack0, per component */
-} instance_xf;
 
 /* xf == NULL: the mesh's triangles join the scene's own BVH as they are;
 ** else it is an instance: its own BVH, shared by every instance of it. */
 typedef struct {
     lc_mesh *mesh;
     int material, id;
-    instance_xf *xf;
+    affine *xf;
     uint32_t blas;         /* compile: its entry in the scene's mesh BVH cache */
 } mesh_prim;
 
@@ -110,7 +101,6 @@ lc_status instance_compile(lc_scene *s, sig_atomic_t interrupts_seen, lc_error *
 void      instance_free_all(lc_scene *s);            /* the cache, at scene free */
 /* World bounds of mesh_prim i, an instance, rounded outward to float. */
 void      instance_bounds(const lc_scene *s, size_t i, float lo[3], float hi[3]);
-lc_status instance_xf_make(const lc_transform *t, instance_xf *x, lc_error *err);
 
 /* instance.c: the nearest hit on the instance mesh_prim i in (0, tmax), in
 ** world space (its distance, 0 for none); any hit. Both count their tests. */
