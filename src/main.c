@@ -1,5 +1,6 @@
 /* main.c: the lancer command: runs scripts and one-liners, with Ctrl-C armed;
-** main_args.c reads its command line, main_repl.c is its prompt. */
+** main_args.c reads its command line, main_repl.c is its prompt, and
+** main_sandbox.c refuses what it will not run. */
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -118,6 +119,12 @@ int host_docall(lua_State *L, int narg, int nres)
     return status;
 }
 
+/* The chunks the command loads: text only, unless --allow-bytecode. */
+static const char *chunk_mode(const struct cmdline *cl)
+{
+    return cl->allow_bytecode ? "bt" : "t";
+}
+
 static int dochunk(lua_State *L, int status)
 {
     if (status == LUA_OK)
@@ -139,10 +146,24 @@ static void create_arg_table(lua_State *L, const struct cmdline *cl)
     lua_setglobal(L, "arg");
 }
 
+/* luaL_loadfilex, with a refused binary chunk named and explained. */
+static int load_script(lua_State *L, const struct cmdline *cl, const char *fname)
+{
+    int status = luaL_loadfilex(L, fname, chunk_mode(cl));  /* NULL: stdin */
+    const char *msg = status == LUA_ERRSYNTAX ? lua_tostring(L, -1) : NULL;
+    if (msg && strstr(msg, "attempt to load a binary chunk")) {
+        lua_pop(L, 1);
+        lua_pushfstring(L, "%s is a binary (precompiled) chunk, refused: Lua does not "
+                        "verify them (--allow-bytecode runs it)",
+                        fname ? fname : "stdin");
+    }
+    return status;
+}
+
 static int handle_script(lua_State *L, const struct cmdline *cl)
 {
     const char *fname = cl->script_stdin ? NULL : cl->argv[cl->script];
-    int status = luaL_loadfile(L, fname);       /* NULL: stdin, named "=stdin" */
+    int status = load_script(L, cl, fname);
     if (status == LUA_OK) {
         int n = cl->argc - cl->script - 1, i;
         luaL_checkstack(L, n + 3, "too many arguments to script");
@@ -326,6 +347,8 @@ static int pmain(lua_State *L)
     luaL_checkversion(L);
     luaL_openlibs(L);
     register_modules(L);
+    if (!cl->allow_bytecode)
+        sandbox_text_only(L);
     seed_random(L);
     create_arg_table(L, cl);
     lua_gc(L, LUA_GCRESTART);
@@ -343,14 +366,15 @@ static int pmain(lua_State *L)
     lua_pop(L, 2);
     for (i = 0; i < cl->nchunks; i++) {
         const char *chunk = cl->chunks[i];
-        int st = luaL_loadbuffer(L, chunk, strlen(chunk), "=(command line)");
+        int st = luaL_loadbufferx(L, chunk, strlen(chunk), "=(command line)",
+                                  chunk_mode(cl));
         if (dochunk(L, st) != LUA_OK)
             return 0;
     }
     if (cl->script > 0 && handle_script(L, cl) != LUA_OK)
         return 0;
     if (!repl && cl->script == 0 && cl->nchunks == 0 &&
-        dochunk(L, luaL_loadfile(L, NULL)) != LUA_OK)      /* stdin, not a terminal */
+        dochunk(L, load_script(L, cl, NULL)) != LUA_OK)    /* stdin, not a terminal */
         return 0;
     lua_pushcfunction(L, host_finish);
     if (host_report(L, host_docall(L, 0, 1)) != LUA_OK)

@@ -46,6 +46,7 @@ struct cmdline {
     int nknobs;
     lua_Integer seeds;      /* --seeds N; 0: not given */
     const char *out;        /* --out DIR; NULL: not given */
+    int allow_bytecode;     /* --allow-bytecode */
 };
 
 /* What parsing the command line says to do next. */
@@ -68,6 +69,10 @@ int  host_report(lua_State *L, int status);   /* prints the error on the stack *
 int  host_docall(lua_State *L, int narg, int nres);  /* pcall with Ctrl-C armed */
 /* Pushes require(module)[field] (the module stays under it). Unprotected. */
 void host_module_field(lua_State *L, const char *module, const char *field);
+
+/* main_sandbox.c: makes load, loadfile, dofile and require's file searcher
+** take text only. */
+void sandbox_text_only(lua_State *L);
 
 /* main_repl.c: the interactive prompt. */
 void repl_run(lua_State *L);

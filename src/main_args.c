@@ -70,6 +70,9 @@ static void print_usage(void)
 "                may be repeated\n"
 "  --seeds N     with --accuracy: renders per level, N >= 2 (default 4)\n"
 "  --out DIR     with --accuracy: where the CSV and PNG go (default out/accuracy)\n"
+"  --allow-bytecode\n"
+"                run precompiled (binary) Lua chunks, refused by default since\n"
+"                Lua does not verify them\n"
 "  --help        print this help and exit\n"
 "  --version     print the version and exit\n"
 "\n"
@@ -87,7 +90,8 @@ static void print_usage(void)
 static const char *const long_options[] = {
     "--width", "--height", "--samples", "--stats", "--check", "--frames", "--frame",
     "--shard", "--skip-existing", "--list-frames", "--video", "--output",
-    "--accuracy", "--knob", "--seeds", "--out", "--help", "--version", NULL};
+    "--accuracy", "--knob", "--seeds", "--out", "--allow-bytecode", "--help",
+    "--version", NULL};
 
 /* argv's word without its "=value". */
 static void option_name(const char *arg, char *out, size_t n)
@@ -433,6 +437,8 @@ int args_parse(struct cmdline *cl)
             st = parse_accuracy_value(cl, &i, a[2] == 'k' ? "--knob" : "--out");
         } else if (is_opt(a, "--seeds")) {
             st = parse_size(cl, &i, "--seeds", &cl->seeds);
+        } else if (strcmp(a, "--allow-bytecode") == 0) {
+            cl->allow_bytecode = 1;
         } else {
             return unknown_option(a);
         }
