@@ -1,6 +1,7 @@
 /* main.c: the lancer command: runs scripts and one-liners, with Ctrl-C armed;
-** main_args.c reads its command line, main_repl.c is its prompt, and
-** main_sandbox.c refuses what it will not run. */
+** main_args.c reads its command line, main_repl.c is its prompt,
+** main_sandbox.c refuses what it will not run, and main_caps.c is
+** --max-memory and --max-seconds. */
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -56,7 +57,7 @@ static void lstop(lua_State *L, lua_Debug *ar)
     if (ar->event != LUA_HOOKCOUNT && ar->event != LUA_HOOKLINE &&
         lua_getinfo(L, "S", ar) && ar->what[0] == 'C')
         return;
-    lua_sethook(L, NULL, 0, 0);
+    caps_rehook(L);                     /* none, or the time cap's */
     luaL_error(L, "interrupted!");
 }
 
@@ -77,11 +78,32 @@ void host_message(const char *msg)
     fflush(stderr);
 }
 
+/* Past the memory cap, Lua's own error reads "not enough memory": its
+** first line says which cap, as the core's errors do. Printed without Lua,
+** which may have no memory left to format with. */
+static void report_memory(const char *msg, size_t cap)
+{
+    size_t first = strcspn(msg, "\n");
+    if (host_progname)
+        fprintf(stderr, "%s: ", host_progname);
+    fprintf(stderr, "%.*s (lancer's memory cap is %.4g MB)%s\n", (int)first, msg,
+            (double)cap / 1e6, msg + first);
+    fflush(stderr);
+}
+
 int host_report(lua_State *L, int status)
 {
     if (status != LUA_OK) {
         const char *msg = lua_tostring(L, -1);
-        host_message(msg ? msg : "(error object is not a string)");
+        size_t cap = caps_memory_refused(L);
+        if (msg == NULL)
+            msg = "(error object is not a string)";
+        if (cap && strstr(msg, "not enough memory"))
+            report_memory(msg, cap);
+        else
+            host_message(msg);
+        if (caps_expired(L) && !strstr(msg, "time cap reached"))
+            host_message("time cap reached");
         lua_pop(L, 1);
     }
     return status;
@@ -114,7 +136,7 @@ int host_docall(lua_State *L, int narg, int nres)
     sigaction(SIGINT, &old, NULL);
     /* A Ctrl-C that came as the code finished must not hit the next line. */
     if (lua_gethook(L) == lstop)
-        lua_sethook(L, NULL, 0, 0);
+        caps_rehook(L);
     lua_remove(L, base);
     return status;
 }
@@ -335,6 +357,29 @@ static int host_finish(lua_State *L)
 
 /* ---- main ------------------------------------------------------------------ */
 
+static char stuck_msg[160];
+
+/* The watchdog's last resort (main_caps.c): C code that polls nothing ran
+** on 1 s past the time cap. Only async-signal-safe calls from here. */
+static void stuck(void)
+{
+    ssize_t n = write(STDERR_FILENO, stuck_msg, strlen(stuck_msg));
+    (void)n;
+    _exit(4);
+}
+
+/* The caps the command line asks for; NULL when none (a plain state). */
+static const struct caps *command_caps(const struct cmdline *cl, struct caps *c)
+{
+    c->max_memory = cl->max_memory > 0 ? (size_t)cl->max_memory * 1000000 : 0;
+    c->max_seconds = cl->max_seconds > 0 ? cl->max_seconds : 0;
+    c->stuck = stuck;
+    snprintf(stuck_msg, sizeof stuck_msg, "lancer: time cap reached (lancer's time cap "
+             "is %g s), in code that cannot be stopped: ending the process\n",
+             c->max_seconds);
+    return c->max_memory || c->max_seconds > 0 ? c : NULL;
+}
+
 /* Everything that touches Lua runs here, under lua_pcall, so even running
 ** out of memory while setting up is reported rather than aborting. */
 static int pmain(lua_State *L)
@@ -346,6 +391,7 @@ static int pmain(lua_State *L)
                (cl->script == 0 && cl->nchunks == 0 && isatty(STDIN_FILENO));
     luaL_checkversion(L);
     luaL_openlibs(L);
+    caps_coroutines(L);                 /* nothing without a time cap */
     register_modules(L);
     if (!cl->allow_bytecode)
         sandbox_text_only(L);
@@ -364,6 +410,11 @@ static int pmain(lua_State *L)
         return 0;
     }
     lua_pop(L, 2);
+    if (cl->max_memory > 0 || cl->max_seconds > 0) {
+        lua_pushcfunction(L, sandbox_hook);    /* the time cap's word on renders */
+        if (host_report(L, host_docall(L, 0, 0)) != LUA_OK)
+            return 0;
+    }
     for (i = 0; i < cl->nchunks; i++) {
         const char *chunk = cl->chunks[i];
         int st = luaL_loadbufferx(L, chunk, strlen(chunk), "=(command line)",
@@ -395,12 +446,16 @@ static int pmain(lua_State *L)
 int main(int argc, char **argv)
 {
     struct cmdline cl;
+    struct caps caps;
+    const struct caps *capped;
     lua_State *L;
-    int status, ok, parsed;
+    int status, ok, parsed, timed_out;
 
     memset(&cl, 0, sizeof cl);
     cl.argc = argc;
     cl.argv = argv;
+    cl.max_memory = -1;
+    cl.max_seconds = -1;
     if (argc < 1 || argv[0] == NULL) {      /* exec with no argv[0] */
         fprintf(stderr, "lancer: no program name\n");
         return 2;
@@ -418,6 +473,8 @@ int main(int argc, char **argv)
     parsed = args_parse(&cl);
     if (parsed == PARSE_RUN)
         parsed = args_check_accuracy(&cl);
+    if (parsed == PARSE_RUN)
+        parsed = args_check_limits(&cl);
     if (parsed != PARSE_RUN) {
         free(cl.chunks);
         free(cl.anim.frames);
@@ -425,7 +482,8 @@ int main(int argc, char **argv)
         return parsed == PARSE_DONE ? 0 : 2;
     }
 
-    L = luaL_newstate();
+    capped = command_caps(&cl, &caps);
+    L = capped ? caps_newstate(capped) : luaL_newstate();
     if (L == NULL) {
         fprintf(stderr, "lancer: cannot create the Lua state: not enough memory\n");
         free(cl.chunks);
@@ -439,10 +497,12 @@ int main(int argc, char **argv)
     status = lua_pcall(L, 1, 1, 0);
     ok = lua_toboolean(L, -1);
     host_report(L, status);
-    lua_close(L);
+    timed_out = caps_close(L);          /* lua_close, for a plain state too */
     free(cl.chunks);
     free(cl.anim.frames);
     free(cl.anim.frame_flags);
+    if (timed_out)
+        return 4;
     if (cl.unstable)
         return 3;
     if (cl.late_usage)

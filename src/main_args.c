@@ -1,7 +1,9 @@
 /* main_args.c: the lancer command's options, all checked before anything runs. */
 #include <limits.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <lauxlib.h>
 #include <lua.h>
@@ -70,6 +72,12 @@ static void print_usage(void)
 "                may be repeated\n"
 "  --seeds N     with --accuracy: renders per level, N >= 2 (default 4)\n"
 "  --out DIR     with --accuracy: where the CSV and PNG go (default out/accuracy)\n"
+"  --max-memory MB\n"
+"                cap the memory of Lua and the renderer together at MB megabytes\n"
+"                (10^6 bytes; 0: no cap): past it, an 'out of memory' error\n"
+"  --max-seconds S\n"
+"                stop the run after S seconds of wall time, Lua code and renders\n"
+"                alike (0: no cap); exit status 4\n"
 "  --allow-bytecode\n"
 "                run precompiled (binary) Lua chunks, refused by default since\n"
 "                Lua does not verify them\n"
@@ -82,7 +90,8 @@ static void print_usage(void)
 "terminal and saves it to out/repl_NNN.png; its history is kept in\n"
 "~/" HISTORY_FILE ". Ctrl-C interrupts running code or a render, Ctrl-D quits.\n"
 "\n"
-"Exit status: 0 success, 1 script error, 2 usage error, 3 unstable (--check).\n", stdout);
+"Exit status: 0 success, 1 script error, 2 usage error, 3 unstable (--check),\n"
+"4 time cap reached (--max-seconds).\n", stdout);
 }
 
 /* The long options, for did-you-mean hints and for noticing one placed
@@ -90,8 +99,8 @@ static void print_usage(void)
 static const char *const long_options[] = {
     "--width", "--height", "--samples", "--stats", "--check", "--frames", "--frame",
     "--shard", "--skip-existing", "--list-frames", "--video", "--output",
-    "--accuracy", "--knob", "--seeds", "--out", "--allow-bytecode", "--help",
-    "--version", NULL};
+    "--accuracy", "--knob", "--seeds", "--out", "--max-memory", "--max-seconds",
+    "--allow-bytecode", "--help", "--version", NULL};
 
 /* argv's word without its "=value". */
 static void option_name(const char *arg, char *out, size_t n)
@@ -382,6 +391,51 @@ int args_check_accuracy(const struct cmdline *cl)
     return PARSE_RUN;
 }
 
+/* ---- The caps -------------------------------------------------------------- */
+
+/* "--max-memory MB": digits, 0 (no cap) up to INT_MAX. */
+static int parse_memory(struct cmdline *cl, int *i)
+{
+    const char *v = option_value(cl, i, "--max-memory"), *s;
+    lua_Integer mb = 0;
+    if (v == NULL || *v == '\0')
+        return args_usage_error("option '%s' needs a value", "--max-memory");
+    for (s = v; *s >= '0' && *s <= '9' && mb <= INT_MAX; s++)
+        mb = mb * 10 + (*s - '0');
+    if (*s != '\0' || mb > INT_MAX)
+        return bad_value("--max-memory", "a whole number of megabytes (0: no cap)", v);
+    cl->max_memory = mb;
+    return PARSE_RUN;
+}
+
+/* "--max-seconds S": a decimal number, 0 (no cap) up to 1e9. */
+static int parse_seconds(struct cmdline *cl, int *i)
+{
+    const char *v = option_value(cl, i, "--max-seconds");
+    char *end;
+    double s;
+    if (v == NULL || *v == '\0')
+        return args_usage_error("option '%s' needs a value", "--max-seconds");
+    s = strtod(v, &end);
+    if (*end != '\0' || !(s >= 0 && s <= 1e9) || strchr(v, 'x') ||
+        strchr(v, 'X'))
+        return bad_value("--max-seconds", "a number of seconds from 0 (no cap) to 1e9",
+                         v);
+    cl->max_seconds = s;
+    return PARSE_RUN;
+}
+
+/* What goes with the caps: caught before anything runs. */
+int args_check_limits(const struct cmdline *cl)
+{
+    int prompt = cl->interactive ||
+                 (cl->script == 0 && cl->nchunks == 0 && isatty(STDIN_FILENO));
+    if (prompt && cl->max_seconds > 0)
+        return args_usage_error("option '%s' cannot go with the prompt",
+                                "--max-seconds");
+    return PARSE_RUN;
+}
+
 /* Checks every option before anything runs, so a typo costs no render. */
 int args_parse(struct cmdline *cl)
 {
@@ -437,6 +491,10 @@ int args_parse(struct cmdline *cl)
             st = parse_accuracy_value(cl, &i, a[2] == 'k' ? "--knob" : "--out");
         } else if (is_opt(a, "--seeds")) {
             st = parse_size(cl, &i, "--seeds", &cl->seeds);
+        } else if (is_opt(a, "--max-memory")) {
+            st = parse_memory(cl, &i);
+        } else if (is_opt(a, "--max-seconds")) {
+            st = parse_seconds(cl, &i);
         } else if (strcmp(a, "--allow-bytecode") == 0) {
             cl->allow_bytecode = 1;
         } else {

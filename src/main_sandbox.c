@@ -1,11 +1,13 @@
 /* main_sandbox.c: what the lancer command refuses to run: binary chunks,
-** wherever they would be loaded (load, loadfile, dofile, require). */
+** wherever they would be loaded (load, loadfile, dofile, require); and its
+** host hook around renders, for the time cap. */
 #include <string.h>
 
 #include <lauxlib.h>
 #include <lua.h>
 #include <lualib.h>
 
+#include "lua_lancer.h"
 #include "main.h"
 
 /* ---- Wrappers -------------------------------------------------------------- */
@@ -131,4 +133,53 @@ void sandbox_text_only(lua_State *L)
     lua_pushcclosure(L, searcher_text, 1);
     lua_rawseti(L, -2, 2);                   /* Lua's file searcher */
     lua_pop(L, 3);
+}
+
+/* ---- The host hook --------------------------------------------------------- */
+
+/* The host hook of a capped state (src/lua_hook.c): upvalue 1 the hook it
+** wraps (the command's) or nil. A render stopped by the time cap, or asked
+** for after it, says so. */
+static int w_host_hook(lua_State *L)
+{
+    const char *method = luaL_checkstring(L, 1);
+    int render = strcmp(method, "render") == 0;
+    if (render) {
+        if (caps_expired(L))
+            return caps_time_error(L, 2, " before a render");
+        caps_collect(L);
+    }
+    if (lua_isnil(L, lua_upvalueindex(1))) {
+        lua_remove(L, 1);                /* plain(self, ...) */
+    } else {
+        lua_pushvalue(L, lua_upvalueindex(1));
+        lua_replace(L, 1);               /* hook(method, plain, self, ...) */
+        lua_pushstring(L, method);
+        lua_insert(L, 2);
+    }
+    if (lua_pcall(L, lua_gettop(L) - 1, LUA_MULTRET, 0) != LUA_OK) {
+        if (render && caps_expired(L))   /* 0 this hook, 1 scene:render, 2 its caller */
+            return caps_time_error(L, 2, " in a render");
+        return lua_error(L);
+    }
+    return lua_gettop(L);
+}
+
+/* Installs w_host_hook around the hook set now; core at its index. */
+static void install_hook(lua_State *L, int core)
+{
+    lua_getfield(L, core, "set_host_hook");
+    lua_pushnil(L);
+    lua_call(L, 1, 1);                   /* the hook set now */
+    lua_pushcclosure(L, w_host_hook, 1);
+    lua_getfield(L, core, "set_host_hook");
+    lua_insert(L, -2);
+    lua_call(L, 1, 0);
+}
+
+int sandbox_hook(lua_State *L)
+{
+    luaL_requiref(L, "lancer.core", luaopen_lancer_core, 0);
+    install_hook(L, lua_gettop(L));
+    return 0;
 }
