@@ -1,7 +1,8 @@
 /* main.c: the lancer command: runs scripts and one-liners, with Ctrl-C armed;
-** main_args.c reads its command line, main_repl.c is its prompt,
-** main_sandbox.c refuses what it will not run, and main_caps.c is
-** --max-memory and --max-seconds. */
+** main_args.c reads its command line, main_repl.c is its prompt, main_caps.c
+** and main_sandbox.c are --max-memory, --max-seconds and --sandbox. */
+#define _XOPEN_SOURCE 700           /* realpath */
+#include <limits.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,9 +33,15 @@ static lua_State *globalL;              /* the state Ctrl-C interrupts */
 
 void host_module_field(lua_State *L, const char *module, const char *field)
 {
-    lua_getglobal(L, "require");
-    lua_pushstring(L, module);
-    lua_call(L, 1, 1);
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+    if (lua_getfield(L, -1, module) == LUA_TNIL) {
+        /* Not loaded yet (not under --sandbox, whose require is the scene's). */
+        lua_pop(L, 1);
+        lua_getglobal(L, "require");
+        lua_pushstring(L, module);
+        lua_call(L, 1, 1);
+    }
+    lua_remove(L, -2);
     lua_getfield(L, -1, field);
 }
 
@@ -176,8 +183,8 @@ static int load_script(lua_State *L, const struct cmdline *cl, const char *fname
     if (msg && strstr(msg, "attempt to load a binary chunk")) {
         lua_pop(L, 1);
         lua_pushfstring(L, "%s is a binary (precompiled) chunk, refused: Lua does not "
-                        "verify them (--allow-bytecode runs it)",
-                        fname ? fname : "stdin");
+                        "verify them%s", fname ? fname : "stdin",
+                        cl->sandbox ? "" : " (--allow-bytecode runs it)");
     }
     return status;
 }
@@ -347,6 +354,42 @@ static int host_setup(lua_State *L)
     return 2;
 }
 
+/* The folder of the script, resolved, for --sandbox to read below; NULL
+** for standard input, or a folder that does not resolve (then loading
+** the script fails as it would). */
+static const char *script_folder(const struct cmdline *cl, char *dir)
+{
+    const char *script = cl->script > 0 && !cl->script_stdin ? cl->argv[cl->script]
+                                                              : NULL;
+    const char *slash = script ? strrchr(script, '/') : NULL;
+    char path[PATH_MAX];
+    if (script == NULL)
+        return NULL;
+    if (slash == NULL)
+        strcpy(path, ".");
+    else if ((size_t)(slash - script) >= sizeof path)
+        return NULL;
+    else if (slash == script)
+        strcpy(path, "/");
+    else
+        memcpy(path, script, (size_t)(slash - script)), path[slash - script] = '\0';
+    return realpath(path, dir);
+}
+
+/* Seals the state for --sandbox, after the command's own setup. */
+static int seal(lua_State *L, const struct cmdline *cl)
+{
+    char dir[PATH_MAX];
+    struct sandbox_policy p;
+    p.read_dir = script_folder(cl, dir);
+    p.write_dir = cl->sandbox_out;
+    p.lua_path = NULL;                 /* lancer's modules are all preloaded */
+    p.no_write = "give it a folder with --sandbox-out DIR";
+    lua_pushcfunction(L, sandbox_seal);
+    lua_pushlightuserdata(L, &p);
+    return host_report(L, host_docall(L, 1, 0));
+}
+
 /* After the script: lancer.host.finish's exit status (0: go on). */
 static int host_finish(lua_State *L)
 {
@@ -356,6 +399,12 @@ static int host_finish(lua_State *L)
 }
 
 /* ---- main ------------------------------------------------------------------ */
+
+/* --sandbox's caps when none is given: a scene the size of the showcase at
+** 1080p needs about 100 MB and a minute; these leave room for much more
+** and still stop a runaway scene on a laptop. */
+#define SANDBOX_MEGABYTES 1024
+#define SANDBOX_SECONDS   600.0
 
 static char stuck_msg[160];
 
@@ -371,13 +420,16 @@ static void stuck(void)
 /* The caps the command line asks for; NULL when none (a plain state). */
 static const struct caps *command_caps(const struct cmdline *cl, struct caps *c)
 {
-    c->max_memory = cl->max_memory > 0 ? (size_t)cl->max_memory * 1000000 : 0;
-    c->max_seconds = cl->max_seconds > 0 ? cl->max_seconds : 0;
+    lua_Integer mb = cl->max_memory >= 0 ? cl->max_memory
+                   : cl->sandbox ? SANDBOX_MEGABYTES : 0;
+    c->max_memory = (size_t)mb * 1000000;
+    c->max_seconds = cl->max_seconds >= 0 ? cl->max_seconds
+                   : cl->sandbox ? SANDBOX_SECONDS : 0;
     c->stuck = stuck;
     snprintf(stuck_msg, sizeof stuck_msg, "lancer: time cap reached (lancer's time cap "
              "is %g s), in code that cannot be stopped: ending the process\n",
              c->max_seconds);
-    return c->max_memory || c->max_seconds > 0 ? c : NULL;
+    return cl->sandbox || c->max_memory || c->max_seconds > 0 ? c : NULL;
 }
 
 /* Everything that touches Lua runs here, under lua_pcall, so even running
@@ -390,11 +442,14 @@ static int pmain(lua_State *L)
     int repl = cl->interactive ||
                (cl->script == 0 && cl->nchunks == 0 && isatty(STDIN_FILENO));
     luaL_checkversion(L);
-    luaL_openlibs(L);
+    if (cl->sandbox)
+        sandbox_openlibs(L);            /* no debug library */
+    else
+        luaL_openlibs(L);
     caps_coroutines(L);                 /* nothing without a time cap */
     register_modules(L);
-    if (!cl->allow_bytecode)
-        sandbox_text_only(L);
+    if (!cl->allow_bytecode && !cl->sandbox)
+        sandbox_text_only(L);           /* the sandbox's seal does it too */
     seed_random(L);
     create_arg_table(L, cl);
     lua_gc(L, LUA_GCRESTART);
@@ -410,7 +465,9 @@ static int pmain(lua_State *L)
         return 0;
     }
     lua_pop(L, 2);
-    if (cl->max_memory > 0 || cl->max_seconds > 0) {
+    if (cl->sandbox && seal(L, cl) != LUA_OK)
+        return 0;
+    if (!cl->sandbox && (cl->max_memory > 0 || cl->max_seconds > 0)) {
         lua_pushcfunction(L, sandbox_hook);    /* the time cap's word on renders */
         if (host_report(L, host_docall(L, 0, 0)) != LUA_OK)
             return 0;

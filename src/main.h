@@ -1,5 +1,5 @@
 /* main.h: what the lancer command's files share: its command line,
-** running Lua code with Ctrl-C armed, the caps. */
+** running Lua code with Ctrl-C armed, the caps and the sandbox. */
 #ifndef LC_MAIN_H
 #define LC_MAIN_H
 
@@ -46,9 +46,11 @@ struct cmdline {
     int nknobs;
     lua_Integer seeds;      /* --seeds N; 0: not given */
     const char *out;        /* --out DIR; NULL: not given */
-    int allow_bytecode;     /* --allow-bytecode */
+    int sandbox;            /* --sandbox */
+    const char *sandbox_out;    /* --sandbox-out DIR; NULL: not given */
     lua_Integer max_memory; /* --max-memory MB; -1: not given, 0: no cap */
     double max_seconds;     /* --max-seconds S; -1: not given, 0: no cap */
+    int allow_bytecode;     /* --allow-bytecode */
 };
 
 /* What parsing the command line says to do next. */
@@ -70,7 +72,8 @@ void host_set_sigint(void (*handler)(int), struct sigaction *old);
 void host_message(const char *msg);      /* to stderr, after host_progname */
 int  host_report(lua_State *L, int status);   /* prints the error on the stack */
 int  host_docall(lua_State *L, int narg, int nres);  /* pcall with Ctrl-C armed */
-/* Pushes require(module)[field] (the module stays under it). Unprotected. */
+/* Pushes require(module)[field] (the module stays under it), taking what
+** package.loaded holds first. Unprotected. */
 void host_module_field(lua_State *L, const char *module, const char *field);
 
 /* main_caps.c: a state's memory cap and time cap. */
@@ -92,12 +95,22 @@ void   caps_coroutines(lua_State *L);
 size_t caps_memory_refused(lua_State *L);   /* the cap, when it refused Lua a block */
 void   caps_collect(lua_State *L);      /* a full collection when the core holds much */
 
-/* main_sandbox.c: makes load, loadfile, dofile and require's file searcher
-** take text only. */
+/* main_sandbox.c: the restrictions (lancer_sandbox.h is the embedder's side). */
+struct sandbox_policy {
+    const char *read_dir;   /* files below it may be read; NULL: none */
+    const char *write_dir;  /* files below it may be written and read; NULL: none */
+    const char *lua_path;   /* require's path to lancer's modules; NULL: preload only */
+    const char *no_write;   /* why nothing may be written, when write_dir is NULL */
+};
+/* Makes load, loadfile, dofile and require's file searcher take text only. */
 void sandbox_text_only(lua_State *L);
 /* Wraps the host hook: the time cap's message for renders. After setup;
 ** a lua_CFunction. */
 int  sandbox_hook(lua_State *L);
+/* Seals the state (lua_CFunction: the policy as light userdata at 1). */
+int  sandbox_seal(lua_State *L);
+/* luaL_openlibs without debug. */
+void sandbox_openlibs(lua_State *L);
 
 /* main_repl.c: the interactive prompt. */
 void repl_run(lua_State *L);
