@@ -1,5 +1,5 @@
 /* main_sandbox.c: the sandbox for untrusted scene files: what a sealed state
-** refuses (--sandbox), and text-only chunks everywhere.
+** refuses, and text-only chunks everywhere (--sandbox, lancer_sandbox.h).
 **
 ** The whole state is the sandbox: its standard tables themselves lose what
 ** could run programs, load C code or binary chunks, or touch files outside
@@ -18,6 +18,7 @@
 #include <lua.h>
 #include <lualib.h>
 
+#include "lancer_sandbox.h"
 #include "lua_lancer.h"
 #include "main.h"
 
@@ -651,4 +652,60 @@ int sandbox_seal(lua_State *L)
     wrap(L, -1, "output", w_write_arg, P);
     lua_pop(L, 1);
     return 0;
+}
+
+/* ---- For embedders --------------------------------------------------------- */
+
+static int open_sealed(lua_State *L)
+{
+    const lancer_sandbox_opts *o = lua_touserdata(L, 1);
+    struct sandbox_policy p;
+    sandbox_openlibs(L);
+    caps_coroutines(L);
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_PRELOAD_TABLE);
+    lua_pushcfunction(L, luaopen_lancer_core);
+    lua_setfield(L, -2, "lancer.core");
+    lua_pop(L, 1);
+    p.read_dir = o->read_dir;
+    p.write_dir = o->write_dir;
+    p.lua_path = o->lua_path;
+    p.no_write = "lancer_sandbox_opts.write_dir is NULL";
+    lua_pushcfunction(L, sandbox_seal);
+    lua_pushlightuserdata(L, &p);
+    lua_call(L, 1, 0);
+    return 0;
+}
+
+lua_State *lancer_sandbox_open(const lancer_sandbox_opts *o, char *err, size_t errlen)
+{
+    struct caps c;
+    lua_State *L;
+    c.max_memory = o->max_memory;
+    c.max_seconds = o->max_seconds;
+    c.stuck = o->stuck;
+    if ((L = caps_newstate(&c)) == NULL) {
+        snprintf(err, errlen, "cannot create the Lua state: not enough memory, or "
+                 "no thread for the time cap");
+        return NULL;
+    }
+    lua_pushcfunction(L, open_sealed);
+    lua_pushlightuserdata(L, (void *)o);
+    if (lua_pcall(L, 1, 0, 0) != LUA_OK) {
+        const char *msg = lua_tostring(L, -1);
+        snprintf(err, errlen, "%s", msg ? msg : "cannot seal the Lua state");
+        caps_close(L);
+        return NULL;
+    }
+    return L;
+}
+
+void lancer_sandbox_close(lua_State *L)
+{
+    if (L)
+        caps_close(L);
+}
+
+int lancer_sandbox_timed_out(lua_State *L)
+{
+    return caps_expired(L);
 }

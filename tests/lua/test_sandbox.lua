@@ -1,6 +1,6 @@
 -- test_sandbox.lua: lancer --sandbox against the escapes and the caps,
 -- through the built command; binary chunks refused outside the sandbox
--- too; --max-memory and --max-seconds.
+-- too; --max-memory and --max-seconds; the C API.
 local T = require "harness"
 
 local q = T.quote
@@ -556,5 +556,88 @@ print(st.rays.camera, os.time() > 0, math.random(1, 6), #arg)
   o, e, code = T.run(q(LANCER) .. " --sandbox -e 'os.execute(\"true\")'")
   T.check_exit(code, 1, o, e)
   T.has(e, "(command line):1: sandbox: os.execute(\"true\") is refused")
+  cleanup(dir)
+end)
+
+-- An embedder's host: the script in argv[3] run in a sandboxed state that
+-- reads below argv[1], writes below argv[2], with a 64 MB and 1 s cap.
+local HOST_C = [[
+#include <stdio.h>
+#include <lauxlib.h>
+#include "lancer_sandbox.h"
+
+int main(int argc, char **argv)
+{
+    char err[256];
+    lancer_sandbox_opts o = {argv[1], argv[2], 64000000, 1.0,
+                             "lua/?.lua;lua/?/init.lua", NULL};
+    lua_State *L = lancer_sandbox_open(&o, err, sizeof err);
+    int status;
+    if (argc != 4 || L == NULL) {
+        fprintf(stderr, "%s\n", L ? "usage: host READ WRITE SCRIPT" : err);
+        return 2;
+    }
+    status = luaL_loadfilex(L, argv[3], "t");
+    if (status == LUA_OK)
+        status = lua_pcall(L, 0, 0, 0);
+    if (status != LUA_OK)
+        fprintf(stderr, "%s\n", lua_tostring(L, -1));
+    status = status != LUA_OK ? (lancer_sandbox_timed_out(L) ? 4 : 1) : 0;
+    lancer_sandbox_close(L);
+    return status;
+}
+]]
+
+T.test("lancer_sandbox_open: an embedder's state refuses, caps, runs lancer", function()
+  local build = LANCER:gsub("/bin/lancer$", "")
+  local dir = layout()
+  T.write(dir .. "/host.c", HOST_C)
+  local objs = output_of("ls " .. q(build) .. "/obj/lua_*.o " .. q(build) ..
+                         "/obj/progress_bar.o"):gsub("\n", " ")
+  -- A sanitized build's objects need the sanitizers' runtimes (as test_docs.lua).
+  local san = os.execute(("nm %s 2>/dev/null | grep -q __asan_"):format(
+    q(build .. "/liblancer.a"))) and "-fsanitize=address,undefined " or ""
+  local cc = ("cc -std=c99 %s-D_POSIX_C_SOURCE=200809L -I%s " ..
+              "$(pkg-config --cflags lua5.4) " ..
+              "-o %s %s %s %s/obj/main_sandbox.o %s/obj/main_caps.o %s/liblancer.a " ..
+              "$(pkg-config --libs lua5.4 libpng) -lm -pthread 2>&1"):format(
+              san, q(ROOT .. "/src"), q(dir .. "/host"), q(dir .. "/host.c"), objs,
+              q(build), q(build), q(build))
+  local o, e, code = T.run(cc)
+  T.check_exit(code, 0, o, e)
+  local function host(script)
+    T.write(dir .. "/scene/scene.lua", script)
+    return T.run(("cd %s && %s %s %s %s"):format(q(ROOT), q(dir .. "/host"),
+                 q(dir .. "/scene"), q(dir .. "/out"), q(dir .. "/scene/scene.lua")))
+  end
+  o, e, code = host(PROBE .. [[
+local s = lancer.scene{camera = lancer.camera{from = {0, 1, -4}, at = {0, 1, 0}}}
+s:add(lancer.sphere{center = {0, 1, 0}, radius = 1},
+      lancer.point_light{position = {2, 4, -3}, intensity = 25})
+probe("save", function() return s:render{width = 8, height = 6}:save("]] ..
+    dir .. [[/out/host.png") end)
+probe("saveout", function() return s:render{width = 8, height = 6}:save("host.png") end)
+probe("execute", function() return os.execute("true") end)
+probe("passwd", function() return io.open("/etc/passwd") end)
+probe("debug", function() return debug.traceback() end)
+probe("hook", function() return lancer.set_host_hook end)
+probe("host", function() return require "lancer.host" end)
+]])
+  T.check_exit(code, 0, o, e)
+  local got = check_refused(o, {
+    saveout = "sandbox: not writing 'host.png': it does not resolve below the " ..
+              "output folder",
+    execute = "os.execute(\"true\") is refused", passwd = "not reading '/etc/passwd'",
+    debug = "debug.traceback is refused", host = "require 'lancer.host' is refused"})
+  T.eq(got.save.verdict, "ALLOWED", "a save below write_dir")
+  T.eq(got.hook.verdict, "REFUSED", "set_host_hook is gone")
+  assert(exists(dir .. "/out/host.png") and not exists(ROOT .. "/host.png"),
+         "saved where?")
+  o, e, code = host("local t = {} for i = 1, 1e8 do t[i] = i end")
+  T.check_exit(code, 1, o, e)
+  T.has(e, "not enough memory")
+  o, e, code = host("while true do end")
+  T.check_exit(code, 4, o, e)
+  T.has(e, "scene.lua:1: time cap reached (lancer's time cap is 1 s)")
   cleanup(dir)
 end)
