@@ -1,6 +1,6 @@
 -- test_sandbox.lua: lancer --sandbox against the escapes and the caps,
 -- through the built command; binary chunks refused outside the sandbox
--- too; --max-memory and --max-seconds; the C API.
+-- too; --max-memory and --max-seconds; lancer.sandbox; the C API.
 local T = require "harness"
 
 local q = T.quote
@@ -556,6 +556,40 @@ print(st.rays.camera, os.time() > 0, math.random(1, 6), #arg)
   o, e, code = T.run(q(LANCER) .. " --sandbox -e 'os.execute(\"true\")'")
   T.check_exit(code, 1, o, e)
   T.has(e, "(command line):1: sandbox: os.execute(\"true\") is refused")
+  cleanup(dir)
+end)
+
+T.test("lancer.sandbox: run and command build the sandboxed command line", function()
+  local sandbox = require "lancer.sandbox"
+  local dir = layout()
+  T.write(dir .. "/scene/scene.lua", "print('args', ...) os.execute('true')")
+  T.eq(sandbox.command{script = "a b.lua", out = "o'ut", max_memory = 64,
+                       max_seconds = 0.5, args = {"x"}, options = {"--stats"}},
+       "'lancer' '--sandbox' '--sandbox-out' 'o'\\''ut' '--max-memory' '64' " ..
+       "'--max-seconds' '0.5' '--stats' '--' 'a b.lua' 'x'", "command")
+  local log = dir .. "/log.txt"
+  local ok, why, code = sandbox.run{lancer = LANCER, script = dir .. "/scene/scene.lua",
+                                    args = {"1", "2"}, log = log}
+  T.eq(ok, nil, "run of a scene that tries os.execute")
+  T.eq(code, 1, "its exit status")
+  T.has(why, "exited 1")
+  T.has(T.slurp(log), "args\t1\t2\n")
+  T.has(T.slurp(log), "sandbox: os.execute(\"true\") is refused")
+  T.write(dir .. "/scene/scene.lua", "while true do end")
+  ok, why, code = sandbox.run{lancer = LANCER, script = dir .. "/scene/scene.lua",
+                              max_seconds = 0.2, log = log}
+  T.eq(code, 4, "the time cap's exit status")
+  T.has(why, "(the time cap)")
+  T.has(T.slurp(log), "time cap reached (lancer's time cap is 0.2 s)")
+  T.write(dir .. "/scene/scene.lua", "print(1)")
+  T.eq(sandbox.run{lancer = LANCER, script = dir .. "/scene/scene.lua", log = log,
+                   options = {"--width", "8"}}, true, "run")
+  T.eq(T.slurp(log), "1\n", "the log of a run")
+  T.check_error(function() sandbox.run{script = "x", max_memory = 1.5} end,
+                "test_sandbox.lua:", "bad argument #1 to 'run'", "megabytes are whole")
+  T.check_error(function() sandbox.command{scrip = "x"} end,
+                "bad argument #1 to 'command' (unknown field 'scrip')")
+  T.check_error(function() sandbox.command{} end, "field 'script': required, got nil")
   cleanup(dir)
 end)
 
