@@ -1,5 +1,8 @@
 /* main.c: the lancer command: runs scripts and one-liners, with Ctrl-C armed;
-** main_args.c reads its command line, main_repl.c is its prompt. */
+** main_args.c reads its command line, main_repl.c is its prompt, main_caps.c
+** and main_sandbox.c are --max-memory, --max-seconds and --sandbox. */
+#define _XOPEN_SOURCE 700           /* realpath */
+#include <limits.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,9 +33,15 @@ static lua_State *globalL;              /* the state Ctrl-C interrupts */
 
 void host_module_field(lua_State *L, const char *module, const char *field)
 {
-    lua_getglobal(L, "require");
-    lua_pushstring(L, module);
-    lua_call(L, 1, 1);
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+    if (lua_getfield(L, -1, module) == LUA_TNIL) {
+        /* Not loaded yet (not under --sandbox, whose require is the scene's). */
+        lua_pop(L, 1);
+        lua_getglobal(L, "require");
+        lua_pushstring(L, module);
+        lua_call(L, 1, 1);
+    }
+    lua_remove(L, -2);
     lua_getfield(L, -1, field);
 }
 
@@ -55,7 +64,7 @@ static void lstop(lua_State *L, lua_Debug *ar)
     if (ar->event != LUA_HOOKCOUNT && ar->event != LUA_HOOKLINE &&
         lua_getinfo(L, "S", ar) && ar->what[0] == 'C')
         return;
-    lua_sethook(L, NULL, 0, 0);
+    caps_rehook(L);                     /* none, or the time cap's */
     luaL_error(L, "interrupted!");
 }
 
@@ -85,11 +94,32 @@ void host_message(const char *msg)
     fflush(stderr);
 }
 
+/* Past the memory cap, Lua's own error reads "not enough memory": its
+** first line says which cap, as the core's errors do. Printed without Lua,
+** which may have no memory left to format with. */
+static void report_memory(const char *msg, size_t cap)
+{
+    size_t first = strcspn(msg, "\n");
+    if (host_progname)
+        fprintf(stderr, "%s: ", host_progname);
+    fprintf(stderr, "%.*s (lancer's memory cap is %.4g MB)%s\n", (int)first, msg,
+            (double)cap / 1e6, msg + first);
+    fflush(stderr);
+}
+
 int host_report(lua_State *L, int status)
 {
     if (status != LUA_OK) {
         const char *msg = lua_tostring(L, -1);
-        host_message(msg ? msg : "(error object is not a string)");
+        size_t cap = caps_memory_refused(L);
+        if (msg == NULL)
+            msg = "(error object is not a string)";
+        if (cap && strstr(msg, "not enough memory"))
+            report_memory(msg, cap);
+        else
+            host_message(msg);
+        if (caps_expired(L) && !strstr(msg, "time cap reached"))
+            host_message("time cap reached");
         lua_pop(L, 1);
     }
     return status;
@@ -122,9 +152,15 @@ int host_docall(lua_State *L, int narg, int nres)
     sigaction(SIGINT, &old, NULL);
     /* A Ctrl-C that came as the code finished must not hit the next line. */
     if (lua_gethook(L) == lstop)
-        lua_sethook(L, NULL, 0, 0);
+        caps_rehook(L);
     lua_remove(L, base);
     return status;
+}
+
+/* The chunks the command loads: text only, unless --allow-bytecode. */
+static const char *chunk_mode(const struct cmdline *cl)
+{
+    return cl->allow_bytecode ? "bt" : "t";
 }
 
 static int dochunk(lua_State *L, int status)
@@ -148,10 +184,24 @@ static void create_arg_table(lua_State *L, const struct cmdline *cl)
     lua_setglobal(L, "arg");
 }
 
+/* luaL_loadfilex, with a refused binary chunk named and explained. */
+static int load_script(lua_State *L, const struct cmdline *cl, const char *fname)
+{
+    int status = luaL_loadfilex(L, fname, chunk_mode(cl));  /* NULL: stdin */
+    const char *msg = status == LUA_ERRSYNTAX ? lua_tostring(L, -1) : NULL;
+    if (msg && strstr(msg, "attempt to load a binary chunk")) {
+        lua_pop(L, 1);
+        lua_pushfstring(L, "%s is a binary (precompiled) chunk, refused: Lua does not "
+                        "verify them%s", fname ? fname : "stdin",
+                        cl->sandbox ? "" : " (--allow-bytecode runs it)");
+    }
+    return status;
+}
+
 static int handle_script(lua_State *L, const struct cmdline *cl)
 {
     const char *fname = cl->script_stdin ? NULL : cl->argv[cl->script];
-    int status = luaL_loadfile(L, fname);       /* NULL: stdin, named "=stdin" */
+    int status = load_script(L, cl, fname);
     if (status == LUA_OK) {
         int n = cl->argc - cl->script - 1, i;
         luaL_checkstack(L, n + 3, "too many arguments to script");
@@ -313,6 +363,42 @@ static int host_setup(lua_State *L)
     return 2;
 }
 
+/* The folder of the script, resolved, for --sandbox to read below; NULL
+** for standard input, or a folder that does not resolve (then loading
+** the script fails as it would). */
+static const char *script_folder(const struct cmdline *cl, char *dir)
+{
+    const char *script = cl->script > 0 && !cl->script_stdin ? cl->argv[cl->script]
+                                                              : NULL;
+    const char *slash = script ? strrchr(script, '/') : NULL;
+    char path[PATH_MAX];
+    if (script == NULL)
+        return NULL;
+    if (slash == NULL)
+        strcpy(path, ".");
+    else if ((size_t)(slash - script) >= sizeof path)
+        return NULL;
+    else if (slash == script)
+        strcpy(path, "/");
+    else
+        memcpy(path, script, (size_t)(slash - script)), path[slash - script] = '\0';
+    return realpath(path, dir);
+}
+
+/* Seals the state for --sandbox, after the command's own setup. */
+static int seal(lua_State *L, const struct cmdline *cl)
+{
+    char dir[PATH_MAX];
+    struct sandbox_policy p;
+    p.read_dir = script_folder(cl, dir);
+    p.write_dir = cl->sandbox_out;
+    p.lua_path = NULL;                 /* lancer's modules are all preloaded */
+    p.no_write = "give it a folder with --sandbox-out DIR";
+    lua_pushcfunction(L, sandbox_seal);
+    lua_pushlightuserdata(L, &p);
+    return host_report(L, host_docall(L, 1, 0));
+}
+
 /* After the script: lancer.host.finish's exit status (0: go on). */
 static int host_finish(lua_State *L)
 {
@@ -322,6 +408,38 @@ static int host_finish(lua_State *L)
 }
 
 /* ---- main ------------------------------------------------------------------ */
+
+/* --sandbox's caps when none is given: a scene the size of the showcase at
+** 1080p needs about 100 MB and a minute; these leave room for much more
+** and still stop a runaway scene on a laptop. */
+#define SANDBOX_MEGABYTES 1024
+#define SANDBOX_SECONDS   600.0
+
+static char stuck_msg[160];
+
+/* The watchdog's last resort (main_caps.c): C code that polls nothing ran
+** on 1 s past the time cap. Only async-signal-safe calls from here. */
+static void stuck(void)
+{
+    ssize_t n = write(STDERR_FILENO, stuck_msg, strlen(stuck_msg));
+    (void)n;
+    _exit(4);
+}
+
+/* The caps the command line asks for; NULL when none (a plain state). */
+static const struct caps *command_caps(const struct cmdline *cl, struct caps *c)
+{
+    lua_Integer mb = cl->max_memory >= 0 ? cl->max_memory
+                   : cl->sandbox ? SANDBOX_MEGABYTES : 0;
+    c->max_memory = (size_t)mb * 1000000;
+    c->max_seconds = cl->max_seconds >= 0 ? cl->max_seconds
+                   : cl->sandbox ? SANDBOX_SECONDS : 0;
+    c->stuck = stuck;
+    snprintf(stuck_msg, sizeof stuck_msg, "lancer: time cap reached (lancer's time cap "
+             "is %g s), in code that cannot be stopped: ending the process\n",
+             c->max_seconds);
+    return cl->sandbox || c->max_memory || c->max_seconds > 0 ? c : NULL;
+}
 
 /* Everything that touches Lua runs here, under lua_pcall, so even running
 ** out of memory while setting up is reported rather than aborting. */
@@ -333,8 +451,14 @@ static int pmain(lua_State *L)
     int repl = cl->interactive ||
                (cl->script == 0 && cl->nchunks == 0 && isatty(STDIN_FILENO));
     luaL_checkversion(L);
-    luaL_openlibs(L);
+    if (cl->sandbox)
+        sandbox_openlibs(L);            /* no debug library */
+    else
+        luaL_openlibs(L);
+    caps_coroutines(L);                 /* nothing without a time cap */
     register_modules(L);
+    if (!cl->allow_bytecode && !cl->sandbox)
+        sandbox_text_only(L);           /* the sandbox's seal does it too */
     seed_random(L);
     create_arg_table(L, cl);
     lua_gc(L, LUA_GCRESTART);
@@ -350,16 +474,24 @@ static int pmain(lua_State *L)
         return 0;
     }
     lua_pop(L, 2);
+    if (cl->sandbox && seal(L, cl) != LUA_OK)
+        return 0;
+    if (!cl->sandbox && (cl->max_memory > 0 || cl->max_seconds > 0)) {
+        lua_pushcfunction(L, sandbox_hook);    /* the time cap's word on renders */
+        if (host_report(L, host_docall(L, 0, 0)) != LUA_OK)
+            return 0;
+    }
     for (i = 0; i < cl->nchunks; i++) {
         const char *chunk = cl->chunks[i];
-        int st = luaL_loadbuffer(L, chunk, strlen(chunk), "=(command line)");
+        int st = luaL_loadbufferx(L, chunk, strlen(chunk), "=(command line)",
+                                  chunk_mode(cl));
         if (dochunk(L, st) != LUA_OK)
             return 0;
     }
     if (cl->script > 0 && handle_script(L, cl) != LUA_OK)
         return 0;
     if (!repl && cl->script == 0 && cl->nchunks == 0 &&
-        dochunk(L, luaL_loadfile(L, NULL)) != LUA_OK)      /* stdin, not a terminal */
+        dochunk(L, load_script(L, cl, NULL)) != LUA_OK)    /* stdin, not a terminal */
         return 0;
     lua_pushcfunction(L, host_finish);
     if (host_report(L, host_docall(L, 0, 1)) != LUA_OK)
@@ -380,8 +512,10 @@ static int pmain(lua_State *L)
 int main(int argc, char **argv)
 {
     struct cmdline cl;
+    struct caps caps;
+    const struct caps *capped;
     lua_State *L;
-    int status, ok, parsed;
+    int status, ok, parsed, timed_out;
 
     memset(&cl, 0, sizeof cl);
     cl.argc = argc;
@@ -389,6 +523,8 @@ int main(int argc, char **argv)
     signal(SIGTERM, on_fatal_signal);
     signal(SIGHUP, on_fatal_signal);
     signal(SIGXFSZ, SIG_IGN);     /* past ulimit -f a write fails, and says so */
+    cl.max_memory = -1;
+    cl.max_seconds = -1;
     if (argc < 1 || argv[0] == NULL) {      /* exec with no argv[0] */
         fprintf(stderr, "lancer: no program name\n");
         return 2;
@@ -406,6 +542,8 @@ int main(int argc, char **argv)
     parsed = args_parse(&cl);
     if (parsed == PARSE_RUN)
         parsed = args_check_accuracy(&cl);
+    if (parsed == PARSE_RUN)
+        parsed = args_check_limits(&cl);
     if (parsed != PARSE_RUN) {
         free(cl.chunks);
         free(cl.anim.frames);
@@ -413,7 +551,8 @@ int main(int argc, char **argv)
         return parsed == PARSE_DONE ? 0 : 2;
     }
 
-    L = luaL_newstate();
+    capped = command_caps(&cl, &caps);
+    L = capped ? caps_newstate(capped) : luaL_newstate();
     if (L == NULL) {
         fprintf(stderr, "lancer: cannot create the Lua state: not enough memory\n");
         free(cl.chunks);
@@ -427,10 +566,12 @@ int main(int argc, char **argv)
     status = lua_pcall(L, 1, 1, 0);
     ok = lua_toboolean(L, -1);
     host_report(L, status);
-    lua_close(L);
+    timed_out = caps_close(L);          /* lua_close, for a plain state too */
     free(cl.chunks);
     free(cl.anim.frames);
     free(cl.anim.frame_flags);
+    if (timed_out)
+        return 4;
     if (cl.unstable)
         return 3;
     if (cl.late_usage)

@@ -1,5 +1,5 @@
-/* main.h: what the lancer command's files share: its command line, and
-** running Lua code with Ctrl-C armed. */
+/* main.h: what the lancer command's files share: its command line,
+** running Lua code with Ctrl-C armed, the caps and the sandbox. */
 #ifndef LC_MAIN_H
 #define LC_MAIN_H
 
@@ -46,6 +46,11 @@ struct cmdline {
     int nknobs;
     lua_Integer seeds;      /* --seeds N; 0: not given */
     const char *out;        /* --out DIR; NULL: not given */
+    int sandbox;            /* --sandbox */
+    const char *sandbox_out;    /* --sandbox-out DIR; NULL: not given */
+    lua_Integer max_memory; /* --max-memory MB; -1: not given, 0: no cap */
+    double max_seconds;     /* --max-seconds S; -1: not given, 0: no cap */
+    int allow_bytecode;     /* --allow-bytecode */
 };
 
 /* What parsing the command line says to do next. */
@@ -54,6 +59,7 @@ enum { PARSE_RUN, PARSE_DONE, PARSE_USAGE };
 /* main_args.c: the command line. */
 int         args_parse(struct cmdline *cl);          /* PARSE_*; usage errors printed */
 int         args_check_accuracy(const struct cmdline *cl);
+int         args_check_limits(const struct cmdline *cl);
 /* Prints "lancer: " fmt (with what) and a hint; returns PARSE_USAGE. */
 int         args_usage_error(const char *fmt, const char *what);
 /* Checks a --frames list; with L, appends {A, B, STEP, option = flag} items
@@ -66,8 +72,45 @@ void host_set_sigint(void (*handler)(int), struct sigaction *old);
 void host_message(const char *msg);      /* to stderr, after host_progname */
 int  host_report(lua_State *L, int status);   /* prints the error on the stack */
 int  host_docall(lua_State *L, int narg, int nres);  /* pcall with Ctrl-C armed */
-/* Pushes require(module)[field] (the module stays under it). Unprotected. */
+/* Pushes require(module)[field] (the module stays under it), taking what
+** package.loaded holds first. Unprotected. */
 void host_module_field(lua_State *L, const char *module, const char *field);
+
+/* main_caps.c: a state's memory cap and time cap. */
+struct caps {
+    size_t max_memory;      /* bytes, Lua's and the core's together; 0: no cap */
+    double max_seconds;     /* wall clock from caps_newstate; 0: no cap */
+    void (*stuck)(void);    /* called on the watchdog thread when C code runs on
+                            ** 1 s past the time cap; NULL: none */
+};
+lua_State *caps_newstate(const struct caps *c);  /* luaL_newstate, capped; NULL */
+int    caps_close(lua_State *L);        /* lua_close; 1 when the time cap was reached */
+int    caps_expired(lua_State *L);      /* the time cap was reached */
+/* Raises "time cap reached<what> ..." at luaL_where(L, level). */
+int    caps_time_error(lua_State *L, int level, const char *what);
+void   caps_rehook(lua_State *L);       /* the time cap's hook back, after another */
+/* coroutine.create and wrap give new coroutines the time cap's hook; after
+** the libraries are open. */
+void   caps_coroutines(lua_State *L);
+size_t caps_memory_refused(lua_State *L);   /* the cap, when it refused Lua a block */
+void   caps_collect(lua_State *L);      /* a full collection when the core holds much */
+
+/* main_sandbox.c: the restrictions (lancer_sandbox.h is the embedder's side). */
+struct sandbox_policy {
+    const char *read_dir;   /* files below it may be read; NULL: none */
+    const char *write_dir;  /* files below it may be written and read; NULL: none */
+    const char *lua_path;   /* require's path to lancer's modules; NULL: preload only */
+    const char *no_write;   /* why nothing may be written, when write_dir is NULL */
+};
+/* Makes load, loadfile, dofile and require's file searcher take text only. */
+void sandbox_text_only(lua_State *L);
+/* Wraps the host hook: the time cap's message for renders. After setup;
+** a lua_CFunction. */
+int  sandbox_hook(lua_State *L);
+/* Seals the state (lua_CFunction: the policy as light userdata at 1). */
+int  sandbox_seal(lua_State *L);
+/* luaL_openlibs without debug. */
+void sandbox_openlibs(lua_State *L);
 
 /* main_repl.c: the interactive prompt. */
 void repl_run(lua_State *L);

@@ -1,7 +1,10 @@
 /* main_args.c: the lancer command's options, all checked before anything runs. */
 #include <limits.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+#include <sys/stat.h>
 
 #include <lauxlib.h>
 #include <lua.h>
@@ -70,6 +73,25 @@ static void print_usage(void)
 "                may be repeated\n"
 "  --seeds N     with --accuracy: renders per level, N >= 2 (default 4)\n"
 "  --out DIR     with --accuracy: where the CSV and PNG go (default out/accuracy)\n"
+"\n"
+"Untrusted scenes (the manual's \"Untrusted scenes: the sandbox\"):\n"
+"  --sandbox     run the script sandboxed: no programs, C modules, binary chunks\n"
+"                or debug library; files read only below the script's folder\n"
+"                (and --sandbox-out), written only below --sandbox-out; with\n"
+"                the caps below, by default 1024 MB and 600 s\n"
+"  --sandbox-out DIR\n"
+"                with --sandbox: the existing folder the script may write in\n"
+"                (by default none: img:save and io.open for writing are refused)\n"
+"  --max-memory MB\n"
+"                cap the memory of Lua and the renderer together at MB megabytes\n"
+"                (10^6 bytes; 0: no cap): past it, an 'out of memory' error\n"
+"  --max-seconds S\n"
+"                stop the run after S seconds of wall time, Lua code and renders\n"
+"                alike (0: no cap); exit status 4\n"
+"  --allow-bytecode\n"
+"                run precompiled (binary) Lua chunks, refused by default since\n"
+"                Lua does not verify them; not with --sandbox\n"
+"\n"
 "  --help        print this help and exit\n"
 "  --version     print the version and exit\n"
 "\n"
@@ -79,7 +101,8 @@ static void print_usage(void)
 "terminal and saves it to out/repl_NNN.png; its history is kept in\n"
 "~/" HISTORY_FILE ". Ctrl-C interrupts running code or a render, Ctrl-D quits.\n"
 "\n"
-"Exit status: 0 success, 1 script error, 2 usage error, 3 unstable (--check).\n", stdout);
+"Exit status: 0 success, 1 script error, 2 usage error, 3 unstable (--check),\n"
+"4 time cap reached (--max-seconds, --sandbox).\n", stdout);
 }
 
 /* The long options, for did-you-mean hints and for noticing one placed
@@ -87,7 +110,8 @@ static void print_usage(void)
 static const char *const long_options[] = {
     "--width", "--height", "--samples", "--stats", "--check", "--frames", "--frame",
     "--shard", "--skip-existing", "--list-frames", "--video", "--output",
-    "--accuracy", "--knob", "--seeds", "--out", "--help", "--version", NULL};
+    "--accuracy", "--knob", "--seeds", "--out", "--sandbox", "--sandbox-out",
+    "--max-memory", "--max-seconds", "--allow-bytecode", "--help", "--version", NULL};
 
 /* argv's word without its "=value". */
 static void option_name(const char *arg, char *out, size_t n)
@@ -378,6 +402,80 @@ int args_check_accuracy(const struct cmdline *cl)
     return PARSE_RUN;
 }
 
+/* ---- The sandbox and the caps ---------------------------------------------- */
+
+/* "--max-memory MB": digits, 0 (no cap) up to INT_MAX. */
+static int parse_memory(struct cmdline *cl, int *i)
+{
+    const char *v = option_value(cl, i, "--max-memory"), *s;
+    lua_Integer mb = 0;
+    if (v == NULL || *v == '\0')
+        return args_usage_error("option '%s' needs a value", "--max-memory");
+    for (s = v; *s >= '0' && *s <= '9' && mb <= INT_MAX; s++)
+        mb = mb * 10 + (*s - '0');
+    if (*s != '\0' || mb > INT_MAX)
+        return bad_value("--max-memory", "a whole number of megabytes (0: no cap)", v);
+    cl->max_memory = mb;
+    return PARSE_RUN;
+}
+
+/* "--max-seconds S": a decimal number, 0 (no cap) up to 1e9. */
+static int parse_seconds(struct cmdline *cl, int *i)
+{
+    const char *v = option_value(cl, i, "--max-seconds");
+    char *end;
+    double s;
+    if (v == NULL || *v == '\0')
+        return args_usage_error("option '%s' needs a value", "--max-seconds");
+    s = strtod(v, &end);
+    if (*end != '\0' || !(s >= 0 && s <= 1e9) || strchr(v, 'x') ||
+        strchr(v, 'X'))
+        return bad_value("--max-seconds", "a number of seconds from 0 (no cap) to 1e9",
+                         v);
+    cl->max_seconds = s;
+    return PARSE_RUN;
+}
+
+static int parse_sandbox_out(struct cmdline *cl, int *i)
+{
+    const char *v = option_value(cl, i, "--sandbox-out");
+    struct stat st;
+    if (v == NULL || *v == '\0')
+        return args_usage_error("option '%s' needs a value", "--sandbox-out");
+    if (stat(v, &st) != 0 || !S_ISDIR(st.st_mode))
+        return bad_value("--sandbox-out", "an existing folder", v);
+    cl->sandbox_out = v;
+    return PARSE_RUN;
+}
+
+/* What goes with the caps and --sandbox: caught before anything runs. */
+int args_check_limits(const struct cmdline *cl)
+{
+    int prompt = cl->interactive ||
+                 (cl->script == 0 && cl->nchunks == 0 && isatty(STDIN_FILENO));
+    if (cl->sandbox_out && !cl->sandbox)
+        return args_usage_error("option '%s' needs --sandbox", "--sandbox-out");
+    if (!cl->sandbox) {
+        if (prompt && cl->max_seconds > 0)
+            return args_usage_error("option '%s' cannot go with the prompt",
+                                    "--max-seconds");
+        return PARSE_RUN;
+    }
+    if (cl->allow_bytecode)
+        return args_usage_error("option '%s' cannot go with --sandbox",
+                                "--allow-bytecode");
+    if (cl->accuracy)
+        return args_usage_error("option '%s' cannot go with --sandbox (it runs "
+                                "gnuplot and writes where --out says)", "--accuracy");
+    if (cl->anim.video)
+        return args_usage_error("option '%s' cannot go with --sandbox (it runs "
+                                "ffmpeg)", "--video");
+    if (prompt)
+        return args_usage_error("option '%s' runs a script, '-' or -e code, not the "
+                                "prompt", "--sandbox");
+    return PARSE_RUN;
+}
+
 /* Checks every option before anything runs, so a typo costs no render. */
 int args_parse(struct cmdline *cl)
 {
@@ -433,6 +531,16 @@ int args_parse(struct cmdline *cl)
             st = parse_accuracy_value(cl, &i, a[2] == 'k' ? "--knob" : "--out");
         } else if (is_opt(a, "--seeds")) {
             st = parse_size(cl, &i, "--seeds", &cl->seeds);
+        } else if (strcmp(a, "--sandbox") == 0) {
+            cl->sandbox = 1;
+        } else if (is_opt(a, "--sandbox-out")) {
+            st = parse_sandbox_out(cl, &i);
+        } else if (is_opt(a, "--max-memory")) {
+            st = parse_memory(cl, &i);
+        } else if (is_opt(a, "--max-seconds")) {
+            st = parse_seconds(cl, &i);
+        } else if (strcmp(a, "--allow-bytecode") == 0) {
+            cl->allow_bytecode = 1;
         } else {
             return unknown_option(a);
         }

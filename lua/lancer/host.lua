@@ -14,6 +14,9 @@
 -- Stock lua5.4 never loads this module: require "lancer" sets no hook.
 local lancer = require "lancer"
 local anim = require "lancer.anim"
+-- Taken now: under --sandbox (src/main_sandbox.c), the scene's require loads
+-- lancer's modules only and its os.exit is refused; the host's are these.
+local require, exit = require, os.exit
 
 -- setup's options: width, height, samples (integers or nil), check, stats,
 -- repl (the prompt follows the script), code (-e code is run), script (its
@@ -30,7 +33,7 @@ end
 -- A usage error found while the script runs: the command exits 2 at once.
 function M.usage(msg)
   say(msg)
-  os.exit(2, true)
+  exit(2, true)
 end
 
 -- The options as the script gave them, with the command line's sizes.
