@@ -7,6 +7,7 @@
 #define QUADS(s)   ((const quad_geom *)(s)->shapes[LC_QUAD].geom)
 #define BOXES(s)   ((const box_geom *)(s)->shapes[LC_BOX].geom)
 #define PLANES(s)  ((const plane_geom *)(s)->shapes[LC_PLANE].geom)
+#define PLACED(s, k) ((const placed_geom *)(s)->shapes[k].geom)
 
 typedef struct {
     const ray *r;      /* a pointer: copying the ray stalled on store forwarding */
@@ -55,6 +56,16 @@ static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, doub
     }
     case PRIM_INSTANCE:           /* a moved mesh: its own BVH, in its own space */
         return instance_hit(s, i, q->r, tmax, full, inner);
+    case PRIM_DISC:
+        return disc_t(PLACED(s, LC_DISC) + i, q->r, 0, tmax);
+    case PRIM_CYLINDER:
+        return cylinder_t(PLACED(s, LC_CYLINDER) + i, q->r, 0, tmax);
+    case PRIM_CONE:
+        return cone_t(PLACED(s, LC_CONE) + i, q->r, 0, tmax);
+    case PRIM_TORUS:
+        return torus_t(PLACED(s, LC_TORUS) + i, q->r, 0, tmax);
+    case PRIM_ELLIPSOID:
+        return ellipsoid_t(PLACED(s, LC_ELLIPSOID) + i, q->r, 0, tmax);
     }
     full->shape = id;
     full->instance = 0;
@@ -80,6 +91,20 @@ static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t,
         ok = plane_hit_inv(PLANES(s) + i, q->r, q->b.inv, 0, tmax, h);
         h->material = s->shapes[LC_PLANE].material[i];
         break;
+    case PRIM_DISC: case PRIM_CYLINDER: case PRIM_CONE: case PRIM_TORUS:
+    case PRIM_ELLIPSOID: {
+        /* The nearest root again: the one the distance test found, however
+        ** the canonical scale rounds t. */
+        lc_shape_kind k = shape_kind_of_prim(PRIM_KIND(id));
+        const placed_geom *g = PLACED(s, k) + i;
+        ok = k == LC_DISC ? disc_hit(g, q->r, 0, HUGE_VAL, h) :
+             k == LC_CYLINDER ? cylinder_hit(g, q->r, 0, HUGE_VAL, h) :
+             k == LC_CONE ? cone_hit(g, q->r, 0, HUGE_VAL, h) :
+             k == LC_TORUS ? torus_hit(g, q->r, 0, HUGE_VAL, h) :
+             ellipsoid_hit(g, q->r, 0, HUGE_VAL, h);
+        h->material = s->shapes[k].material[i];
+        break;
+    }
     default:
         return 1;                        /* already complete */
     }

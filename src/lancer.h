@@ -79,27 +79,39 @@ lc_status   lc_material_check(const lc_material *m, lc_error *err);
 
 /* ---- Shapes ---------------------------------------------------------------- */
 
-typedef enum { LC_SPHERE, LC_QUAD, LC_BOX, LC_PLANE, LC_SHAPE_KINDS } lc_shape_kind;
+typedef enum {
+    LC_SPHERE, LC_QUAD, LC_BOX, LC_PLANE,
+    LC_DISC, LC_CYLINDER, LC_CONE, LC_TORUS, LC_ELLIPSOID,
+    LC_SHAPE_KINDS
+} lc_shape_kind;
+
+/* An affine map x' = M x + t, row-major: m[i][0..2] is row i of M, m[i][3]
+** is t[i]. Compose right to left, as matrices do: (a after b)(x) = a(b(x)). */
+typedef struct { double m[3][4]; } lc_transform;
 
 typedef struct {
     lc_shape_kind kind;
-    lc_vec3 p;        /* sphere centre; quad and box corner; plane point */
-    lc_vec3 u, v, w;  /* quad edges u, v; box edges u, v, w; plane normal u */
-    double  radius;   /* sphere only */
+    lc_vec3 p;        /* centre: sphere, disc, torus, ellipsoid; corner: quad, box; a
+                      ** point: plane; the base's centre: cylinder, cone */
+    lc_vec3 u, v, w;  /* quad edges u, v; box edges u, v, w; plane and disc normal u;
+                      ** cylinder and cone axis u, from base to top (its length is the
+                      ** height); torus axis u (a direction); ellipsoid radii u */
+    double  radius;   /* sphere, disc, cylinder; cone's base radius; torus's major */
+    double  radius2;  /* cone's top radius; disc's inner radius; torus's minor */
+    int     caps;     /* cylinder, cone: closed by a disc at each end (a solid) */
+    int     moved;    /* disc, cylinder, cone, torus, ellipsoid: then placed by xf,
+                      ** any affine map, and intersected in their own space */
+    lc_transform xf;
 } lc_shape;
 
 lc_status lc_shape_check(const lc_shape *s, lc_error *err); /* sizes, NaN, parallel */
-/* "sphere", "quad", "box", "plane"; LC_SHAPE_KINDS names a mesh's "triangle". */
+/* "sphere", "quad", ...; LC_SHAPE_KINDS names a mesh's "triangle". */
 const char *lc_shape_kind_name(lc_shape_kind k);
 /* The shape as a scene stores and lists it (a plane's normal made unit), so
 ** that what scene objects list can be compared with what was added. */
 lc_status lc_shape_stored(const lc_shape *s, lc_shape *out, lc_error *err);
 
 /* ---- Transforms ------------------------------------------------------------ */
-
-/* An affine map x' = M x + t, row-major: m[i][0..2] is row i of M, m[i][3]
-** is t[i]. Compose right to left, as matrices do: (a after b)(x) = a(b(x)). */
-typedef struct { double m[3][4]; } lc_transform;
 
 lc_transform lc_transform_identity(void);
 lc_transform lc_transform_translate(lc_vec3 t);
@@ -118,10 +130,11 @@ lc_vec3      lc_transform_vector(const lc_transform *t, lc_vec3 v);  /* M v */
 /* A surface normal moved with its surface: sign(det M) cof(M) n, the inverse
 ** transpose up to a positive factor (not unit), outward staying outward. */
 lc_vec3      lc_transform_normal(const lc_transform *t, lc_vec3 n);
-/* The shape moved by t, exactly where affine maps keep its kind: quads and
-** boxes (corner and edges), planes (point; normal by the inverse transpose),
-** spheres under rotation, translation and uniform scale. A sphere under a
-** non-uniform scale or a shear is refused: it would be an ellipsoid. */
+/* The shape moved by t, exactly: quads and boxes (corner and edges), planes
+** (point; normal by the inverse transpose) and spheres under rotation,
+** translation and uniform scale keep their kind and fields; a sphere under
+** any other map becomes an ellipsoid; discs, cylinders, cones, tori and
+** ellipsoids keep their fields and are placed by t after their xf. */
 lc_status    lc_shape_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
                                 lc_error *err);
 

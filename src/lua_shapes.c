@@ -13,24 +13,50 @@
 ** and nothing else about a kind, so a new kind adds its row here, its
 ** constructor below and its entry in shapes_register's list. Kind names
 ** are the core's (lc_shape_kind_name). */
-typedef enum { FIELD_VEC3, FIELD_NUMBER } field_type;
+typedef enum { FIELD_VEC3, FIELD_NUMBER, FIELD_BOOL } field_type;
 
 typedef struct {
     const char *name;          /* NULL ends a kind's list */
     size_t      offset;        /* of its member in lc_shape */
     field_type  type;
+    int         optional;      /* 0: required; else absent means `def` */
+    double      def;
 } shape_field;
 
-#define VEC3(name, member)   {name, offsetof(lc_shape, member), FIELD_VEC3}
-#define NUMBER(name, member) {name, offsetof(lc_shape, member), FIELD_NUMBER}
-#define MAX_FIELDS 4
+#define VEC3(name, member)   {name, offsetof(lc_shape, member), FIELD_VEC3, 0, 0}
+#define NUMBER(name, member) {name, offsetof(lc_shape, member), FIELD_NUMBER, 0, 0}
+#define NUMBER_OR(name, member, d) {name, offsetof(lc_shape, member), FIELD_NUMBER, 1, d}
+#define BOOL_OR(name, member, d) {name, offsetof(lc_shape, member), FIELD_BOOL, 1, d}
+#define MAX_FIELDS 5
 
 static const shape_field kind_fields[LC_SHAPE_KINDS][MAX_FIELDS + 1] = {
-    [LC_SPHERE] = {VEC3("center", p), NUMBER("radius", radius)},
-    [LC_QUAD]   = {VEC3("corner", p), VEC3("u", u), VEC3("v", v)},
-    [LC_BOX]    = {VEC3("corner", p), VEC3("u", u), VEC3("v", v), VEC3("w", w)},
-    [LC_PLANE]  = {VEC3("point", p), VEC3("normal", u)},
+    [LC_SPHERE]    = {VEC3("center", p), NUMBER("radius", radius)},
+    [LC_QUAD]      = {VEC3("corner", p), VEC3("u", u), VEC3("v", v)},
+    [LC_BOX]       = {VEC3("corner", p), VEC3("u", u), VEC3("v", v), VEC3("w", w)},
+    [LC_PLANE]     = {VEC3("point", p), VEC3("normal", u)},
+    [LC_DISC]      = {VEC3("center", p), VEC3("normal", u), NUMBER("radius", radius),
+                      NUMBER_OR("inner_radius", radius2, 0)},
+    [LC_CYLINDER]  = {VEC3("base", p), VEC3("axis", u), NUMBER("radius", radius),
+                      BOOL_OR("caps", caps, 1)},
+    [LC_CONE]      = {VEC3("base", p), VEC3("axis", u), NUMBER("base_radius", radius),
+                      NUMBER("top_radius", radius2), BOOL_OR("caps", caps, 1)},
+    [LC_TORUS]     = {VEC3("center", p), VEC3("axis", u), NUMBER("major", radius),
+                      NUMBER("minor", radius2)},
+    [LC_ELLIPSOID] = {VEC3("center", p), VEC3("radii", u)},
 };
+
+/* A lancer.Transform holding t (a moved shape's placement). */
+static void push_transform(lua_State *L, const lc_transform *t)
+{
+    ud_transform *u = lua_newuserdatauv(L, sizeof *u, 0);
+    u->t = *t;
+    luaL_setmetatable(L, TRANSFORM);
+}
+
+static int *int_of(lc_shape *s, const shape_field *f)
+{
+    return (int *)((char *)s + f->offset);
+}
 
 static lc_vec3 *vec3_of(lc_shape *s, const shape_field *f)
 {
@@ -68,14 +94,19 @@ static void shape_open(lua_State *L, lc_shape_kind kind, const char *const extra
     lf_open(L, 1, known);
 }
 
-/* Reads every field of the shape's kind from the table at 1, each required. */
-static void shape_read(lua_State *L, lc_shape *s)
+/* Reads every field of the shape's kind from the table at 1 (but `skip`,
+** which the constructor reads itself). */
+static void shape_read(lua_State *L, lc_shape *s, const char *skip)
 {
     for (const shape_field *f = kind_fields[s->kind]; f->name; f++) {
+        if (skip && strcmp(f->name, skip) == 0)
+            continue;
         if (f->type == FIELD_VEC3)
-            *vec3_of(s, f) = lf_vec3(L, 1, f->name, 1, *vec3_of(s, f));
+            *vec3_of(s, f) = lf_vec3(L, 1, f->name, !f->optional, *vec3_of(s, f));
+        else if (f->type == FIELD_BOOL)
+            *int_of(s, f) = lf_boolean(L, 1, f->name, (int)f->def);
         else
-            *number_of(s, f) = lf_number(L, 1, f->name, 1, 0);
+            *number_of(s, f) = lf_number(L, 1, f->name, !f->optional, f->def);
     }
 }
 
@@ -97,7 +128,7 @@ static int shape_new(lua_State *L, lc_shape_kind kind)
     lc_shape s;
     memset(&s, 0, sizeof s);
     s.kind = kind;
-    shape_read(L, &s);
+    shape_read(L, &s, NULL);
     return shape_push_checked(L, &s);
 }
 
@@ -114,7 +145,7 @@ static int w_box(lua_State *L)
     memset(&s, 0, sizeof s);
     s.kind = LC_BOX;
     if (!lf_present(L, 1, "min") && !lf_present(L, 1, "max")) {
-        shape_read(L, &s);
+        shape_read(L, &s, NULL);
         return shape_push_checked(L, &s);
     }
     for (const shape_field *f = kind_fields[LC_BOX]; f->name; f++)
@@ -134,6 +165,36 @@ static int w_box(lua_State *L)
     return shape_push_checked(L, &s);
 }
 
+static int w_disc(lua_State *L) { return shape_new(L, LC_DISC); }
+static int w_torus(lua_State *L) { return shape_new(L, LC_TORUS); }
+static int w_ellipsoid(lua_State *L) { return shape_new(L, LC_ELLIPSOID); }
+
+/* lancer.cylinder{base, axis or top, radius, caps = true} and lancer.cone{base,
+** axis or top, base_radius, top_radius, caps = true}: the axis runs from
+** the base to the top, its length the height. */
+static int axial(lua_State *L, lc_shape_kind kind)
+{
+    static const char *const tops[] = {"top", NULL};
+    shape_open(L, kind, tops);
+    lc_shape s;
+    memset(&s, 0, sizeof s);
+    s.kind = kind;
+    shape_read(L, &s, "axis");
+    int has_axis = lf_present(L, 1, "axis"), has_top = lf_present(L, 1, "top");
+    if (has_axis && has_top)
+        return lf_error(L, 1, "top", "give either axis or top, not both");
+    if (has_top) {
+        lc_vec3 top = lf_vec3(L, 1, "top", 1, s.p);
+        s.u = (lc_vec3){top.x - s.p.x, top.y - s.p.y, top.z - s.p.z};
+    } else {
+        s.u = lf_vec3(L, 1, "axis", 1, s.u);
+    }
+    return shape_push_checked(L, &s);
+}
+
+static int w_cylinder(lua_State *L) { return axial(L, LC_CYLINDER); }
+static int w_cone(lua_State *L) { return axial(L, LC_CONE); }
+
 /* ---- what every kind shares ------------------------------------------------ */
 
 void shapes_push(lua_State *L, const lc_shape *s, int mat)
@@ -152,8 +213,12 @@ int shapes_match(const lc_shape *added, const lc_shape *listed)
     lc_error err;
     if (added->kind != listed->kind || lc_shape_stored(added, &a, &err))
         return 0;
+    if (a.moved != b.moved || (a.moved && memcmp(&a.xf, &b.xf, sizeof a.xf) != 0))
+        return 0;
     for (const shape_field *f = kind_fields[a.kind]; f->name; f++) {
         if (f->type == FIELD_NUMBER && *number_of(&a, f) != *number_of(&b, f))
+            return 0;
+        if (f->type == FIELD_BOOL && !*int_of(&a, f) != !*int_of(&b, f))
             return 0;
         if (f->type == FIELD_VEC3) {
             lc_vec3 x = *vec3_of(&a, f), y = *vec3_of(&b, f);
@@ -181,11 +246,20 @@ static int w_shape_tostring(lua_State *L)
         } else {
             luaL_addstring(&b, f->name);
             luaL_addstring(&b, " = ");
-            lf_add_number(&b, *number_of(&s, f));
+            if (f->type == FIELD_BOOL)
+                luaL_addstring(&b, *int_of(&s, f) ? "true" : "false");
+            else
+                lf_add_number(&b, *number_of(&s, f));
         }
     }
     luaL_addstring(&b, "}");
     luaL_pushresult(&b);
+    if (s.moved) {                        /* "... moved by lancer.transform{...}" */
+        int fields = lua_gettop(L);
+        push_transform(L, &s.xf);
+        const char *t = luaL_tolstring(L, -1, NULL);
+        lua_pushfstring(L, "%s moved by %s", lua_tostring(L, fields), t);
+    }
     return 1;
 }
 
@@ -195,7 +269,9 @@ static int w_shape_index(lua_State *L)
     const char *k = luaL_checkstring(L, 2);
     const shape_field *f = field_named(s.kind, k);
     if (f && f->type == FIELD_VEC3) lf_push_vec3(L, *vec3_of(&s, f));
+    else if (f && f->type == FIELD_BOOL) lua_pushboolean(L, *int_of(&s, f));
     else if (f) lua_pushnumber(L, *number_of(&s, f));
+    else if (strcmp(k, "transform") == 0 && s.moved) push_transform(L, &s.xf);
     else if (strcmp(k, "kind") == 0) lua_pushstring(L, lc_shape_kind_name(s.kind));
     else if (strcmp(k, "material") == 0) lua_getiuservalue(L, 1, 1);
     else if (strcmp(k, "moved") == 0) lua_pushcfunction(L, motion_moved);
@@ -209,7 +285,8 @@ void shapes_register(lua_State *L)
         {"__tostring", w_shape_tostring}, {"__index", w_shape_index}, {NULL, NULL}};
     static const luaL_Reg funcs[] = {
         {"sphere", w_sphere}, {"quad", w_quad}, {"box", w_box}, {"plane", w_plane},
-        {NULL, NULL}};
+        {"disc", w_disc}, {"cylinder", w_cylinder}, {"cone", w_cone}, {"torus", w_torus},
+        {"ellipsoid", w_ellipsoid}, {NULL, NULL}};
     lancer_class(L, SHAPE, shape_meta, NULL);
     luaL_setfuncs(L, funcs, 0);
 }

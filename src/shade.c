@@ -19,7 +19,7 @@ static double max3(radiance c) { return max2(c.r, max2(c.g, c.b)); }
 ** cannot meet it again: if it does, the spawn offset failed. */
 static int cannot_return(const hit *h, lc_vec3 w)
 {
-    return prim_flat(PRIM_KIND(h->shape)) || v3_dot(w, h->n) > 0;
+    return prim_cannot_return(PRIM_KIND(h->shape), v3_dot(w, h->n) > 0);
 }
 
 /* The number of rays a glossy hit splits into. */

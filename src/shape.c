@@ -24,15 +24,23 @@
 
 static const char *const kind_names[LC_SHAPE_KINDS + 1] = {
     [LC_SPHERE] = "sphere", [LC_QUAD] = "quad", [LC_BOX] = "box", [LC_PLANE] = "plane",
-    [LC_SHAPE_KINDS] = "triangle"};
+    [LC_DISC] = "disc", [LC_CYLINDER] = "cylinder", [LC_CONE] = "cone",
+    [LC_TORUS] = "torus", [LC_ELLIPSOID] = "ellipsoid", [LC_SHAPE_KINDS] = "triangle"};
 
 static const unsigned prim_kinds[LC_SHAPE_KINDS] = {
     [LC_SPHERE] = PRIM_SPHERE, [LC_QUAD] = PRIM_QUAD, [LC_BOX] = PRIM_BOX,
-    [LC_PLANE] = PRIM_PLANE};
+    [LC_PLANE] = PRIM_PLANE, [LC_DISC] = PRIM_DISC, [LC_CYLINDER] = PRIM_CYLINDER,
+    [LC_CONE] = PRIM_CONE, [LC_TORUS] = PRIM_TORUS, [LC_ELLIPSOID] = PRIM_ELLIPSOID};
 
 static const size_t geom_sizes[LC_SHAPE_KINDS] = {
     [LC_SPHERE] = sizeof(sphere_geom), [LC_QUAD] = sizeof(quad_geom),
-    [LC_BOX] = sizeof(box_geom), [LC_PLANE] = sizeof(plane_geom)};
+    [LC_BOX] = sizeof(box_geom), [LC_PLANE] = sizeof(plane_geom),
+    [LC_DISC] = sizeof(placed_geom), [LC_CYLINDER] = sizeof(placed_geom),
+    [LC_CONE] = sizeof(placed_geom), [LC_TORUS] = sizeof(placed_geom),
+    [LC_ELLIPSOID] = sizeof(placed_geom)};
+
+/* The kinds placed by an affine map (placed.c). */
+static int placed_kind(lc_shape_kind k) { return k >= LC_DISC && k <= LC_ELLIPSOID; }
 
 const char *lc_shape_kind_name(lc_shape_kind k)
 {
@@ -60,6 +68,11 @@ lc_status lc_shape_check(const lc_shape *s, lc_error *err)
     case LC_QUAD: st = quad_check(s, err); break;
     case LC_BOX: st = box_check(s, err); break;
     case LC_PLANE: st = plane_check(s, err); break;
+    case LC_DISC: st = disc_check(s, err); break;
+    case LC_CYLINDER: st = cylinder_check(s, err); break;
+    case LC_CONE: st = cone_check(s, err); break;
+    case LC_TORUS: st = torus_check(s, err); break;
+    case LC_ELLIPSOID: st = ellipsoid_check(s, err); break;
     default:
         return error_fail(err, LC_EARG, "kind", "unknown shape kind %d", (int)s->kind);
     }
@@ -79,7 +92,8 @@ lc_status lc_shape_transform(const lc_shape *s, const lc_transform *t, lc_shape 
     case LC_SPHERE: st = sphere_transform(s, t, &r, err); break;
     case LC_QUAD: st = quad_transform(s, t, &r, err); break;
     case LC_BOX: st = box_transform(s, t, &r, err); break;
-    default: st = plane_transform(s, t, &r, err); break;
+    case LC_PLANE: st = plane_transform(s, t, &r, err); break;
+    default: st = placed_transform(s, t, &r, err); break;
     }
     if (st || lc_shape_check(&r, err))
         return LC_EARG;
@@ -92,7 +106,7 @@ lc_status lc_shape_stored(const lc_shape *s, lc_shape *out, lc_error *err)
 {
     if (lc_shape_check(s, err))
         return LC_EARG;
-    union { sphere_geom s; quad_geom q; box_geom b; plane_geom p; } g;
+    union { sphere_geom s; quad_geom q; box_geom b; plane_geom p; placed_geom x; } g;
     shape_prepare(s, &g);
     memset(out, 0, sizeof *out);                /* as the scene lists it */
     shape_describe(s->kind, &g, out);
@@ -105,7 +119,12 @@ void shape_prepare(const lc_shape *s, void *geom)
     case LC_SPHERE: sphere_prepare(s, geom); break;
     case LC_QUAD: quad_prepare(s, geom); break;
     case LC_BOX: box_prepare(s, geom); break;
-    default: plane_prepare(s, geom); break;
+    case LC_PLANE: plane_prepare(s, geom); break;
+    case LC_DISC: disc_prepare(s, geom); break;
+    case LC_CYLINDER: cylinder_prepare(s, geom); break;
+    case LC_CONE: cone_prepare(s, geom); break;
+    case LC_TORUS: torus_prepare(s, geom); break;
+    default: ellipsoid_prepare(s, geom); break;
     }
 }
 
@@ -116,7 +135,8 @@ void shape_describe(lc_shape_kind k, const void *geom, lc_shape *out)
     case LC_SPHERE: sphere_describe(geom, out); break;
     case LC_QUAD: quad_describe(geom, out); break;
     case LC_BOX: box_describe(geom, out); break;
-    default: plane_describe(geom, out); break;
+    case LC_PLANE: plane_describe(geom, out); break;
+    default: *out = ((const placed_geom *)geom)->shape; break;
     }
 }
 
@@ -126,7 +146,9 @@ void shape_scale(lc_shape *s, double k, lc_vec3 offset)
     case LC_SPHERE: sphere_scale(s, k, offset); break;
     case LC_QUAD: quad_scale(s, k, offset); break;
     case LC_BOX: box_scale(s, k, offset); break;
-    default: plane_scale(s, k, offset); break;
+    case LC_PLANE: plane_scale(s, k, offset); break;
+    case LC_DISC: case LC_TORUS: placed_scale(s, k, offset, 0); break;  /* u: a direction */
+    default: placed_scale(s, k, offset, 1); break;
     }
 }
 
@@ -136,6 +158,11 @@ void shape_bounds(lc_shape_kind k, const void *geom, float lo[3], float hi[3])
     case LC_SPHERE: sphere_bounds(geom, lo, hi); break;
     case LC_QUAD: quad_bounds(geom, lo, hi); break;
     case LC_BOX: box_bounds(geom, lo, hi); break;
+    case LC_DISC: disc_bounds(geom, lo, hi); break;
+    case LC_CYLINDER: cylinder_bounds(geom, lo, hi); break;
+    case LC_CONE: cone_bounds(geom, lo, hi); break;
+    case LC_TORUS: torus_bounds(geom, lo, hi); break;
+    case LC_ELLIPSOID: ellipsoid_bounds(geom, lo, hi); break;
     default:                                    /* unbounded: never in the BVH */
         for (int a = 0; a < 3; a++) {
             lo[a] = -HUGE_VALF;
@@ -147,6 +174,10 @@ void shape_bounds(lc_shape_kind k, const void *geom, float lo[3], float hi[3])
 
 lc_vec3 shape_light_target(lc_shape_kind k, const void *geom)
 {
+    if (placed_kind(k)) {                       /* the centre of the canonical shape */
+        double z = k == LC_CYLINDER || k == LC_CONE ? 0.5 : 0;
+        return lc_transform_point(&((const placed_geom *)geom)->x.xf, v3(0, 0, z));
+    }
     switch (k) {
     case LC_SPHERE:
         return ((const sphere_geom *)geom)->c;
@@ -163,6 +194,13 @@ lc_vec3 shape_light_target(lc_shape_kind k, const void *geom)
 
 double shape_light_centre(lc_shape_kind k, const void *geom, lc_vec3 l, double d)
 {
+    if (k == LC_DISC) {                         /* flat: its area seen along l */
+        const placed_geom *g = geom;
+        lc_vec3 n = affine_normal(&g->x, v3(0, 0, 1));
+        return g->area * fabs(v3_dot(n, l)) / (PI * d * d);
+    }
+    if (placed_kind(k))    /* a quarter of the area: the mean over directions (Cauchy) */
+        return ((const placed_geom *)geom)->area / (4 * PI * d * d);
     switch (k) {
     case LC_SPHERE: return sphere_light_centre(geom, l, d);
     case LC_QUAD: return quad_light_centre(geom, l, d);
@@ -173,6 +211,8 @@ double shape_light_centre(lc_shape_kind k, const void *geom, lc_vec3 l, double d
 int shape_light_begin(lc_shape_kind k, const void *geom, lc_vec3 p, lc_vec3 n,
                       light_setup *ls)
 {
+    if (placed_kind(k))
+        return 1;                               /* sampled over their whole surface */
     switch (k) {
     case LC_SPHERE: return sphere_light_begin(geom, p, n, &ls->sphere);
     case LC_QUAD: return quad_light_begin(geom, p, &ls->quad);
@@ -186,6 +226,11 @@ int shape_light_sample(lc_shape_kind k, const void *geom, const light_setup *ls,
     switch (k) {
     case LC_SPHERE: return sphere_light_sample(geom, &ls->sphere, p, u, S, out);
     case LC_QUAD: return quad_light_sample(geom, &ls->quad, p, u, S, out);
-    default: return box_light_sample(geom, &ls->box, p, u, S, out);
+    case LC_BOX: return box_light_sample(geom, &ls->box, p, u, S, out);
+    case LC_DISC: return disc_light_sample(geom, p, u, S, out);
+    case LC_CYLINDER: return cylinder_light_sample(geom, p, u, S, out);
+    case LC_CONE: return cone_light_sample(geom, p, u, S, out);
+    case LC_TORUS: return torus_light_sample(geom, p, u, S, out);
+    default: return ellipsoid_light_sample(geom, p, u, S, out);
     }
 }

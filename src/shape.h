@@ -4,6 +4,7 @@
 #ifndef LC_SHAPE_H
 #define LC_SHAPE_H
 
+#include "affine.h"
 #include "geom.h"
 
 /* ---- Primitive ids ----------------------------------------------------------- */
@@ -13,6 +14,7 @@
 ** (INTERSECT_SKIP_NONE). */
 enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
        PRIM_INSTANCE,       /* a moved mesh: only in BVH refs, never in a hit */
+       PRIM_DISC, PRIM_CYLINDER, PRIM_CONE, PRIM_TORUS, PRIM_ELLIPSOID,
        PRIM_KINDS };
 #define PRIM_ID(kind, index) (((uint32_t)(kind) << 28) | (uint32_t)(index))
 #define PRIM_KIND(id)        ((unsigned)((id) >> 28))
@@ -20,8 +22,15 @@ enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
 #define PRIM_MAX             ((size_t)1 << 28)
 
 /* Flat primitives: a ray leaving one can never meet it again. */
-#define PRIM_FLAT ((1u << PRIM_QUAD) | (1u << PRIM_PLANE) | (1u << PRIM_TRIANGLE))
+#define PRIM_FLAT ((1u << PRIM_QUAD) | (1u << PRIM_PLANE) | (1u << PRIM_TRIANGLE) | \
+                   (1u << PRIM_DISC))
 static inline int prim_flat(unsigned kind) { return (PRIM_FLAT >> kind) & 1; }
+/* Not convex: a ray leaving one outward may meet it again, legitimately. */
+#define PRIM_CONCAVE (1u << PRIM_TORUS)
+static inline int prim_cannot_return(unsigned kind, int outward)
+{
+    return prim_flat(kind) || (outward && !((PRIM_CONCAVE >> kind) & 1));
+}
 
 /* ---- Emissive shapes as lights ------------------------------------------------- */
 
@@ -228,6 +237,107 @@ int  triangle_degenerate(const double *a, const double *b, const double *c);
 /* Bounds of a face: its vertices are exact doubles, rounded outward. */
 void triangle_bounds(const double *a, const double *b, const double *c, float lo[3],
                 float hi[3]);
+
+/* ---- placed.c: the shapes intersected in their own space --------------------------- */
+
+/* Discs, cylinders, cones, tori and ellipsoids are canonical shapes (a unit
+** disc, cylinder, cone, torus, sphere) placed by an affine map: the ray is
+** taken into canonical space, solved there, and the hit taken back. */
+typedef struct {
+    affine   x;        /* canonical space to the world */
+    lc_shape shape;    /* as given: what lists, moves and scales */
+    double   k0, k1;   /* the kind's canonical parameters */
+    double   area;     /* world surface area (the seed's centre model) */
+} placed_geom;
+
+/* A world ray in canonical space, its direction made unit: canonical
+** distances are `scale` times the world's. */
+typedef struct {
+    ray    r;
+    double scale;
+    double lo, hi;     /* the world's (tmin, tmax), canonical */
+    double near;       /* a root nearer than this may be the surface the ray left */
+} placed_ray;
+
+/* to_shape: canonical space to the shape as its fields say (the kind's own
+** frame); the shape's xf, when moved, follows it. */
+lc_status placed_make(const lc_shape *s, const lc_transform *to_shape, placed_geom *g,
+                      lc_error *err);
+int       placed_ray_init(const placed_geom *g, const ray *r, double tmin, double tmax,
+                          placed_ray *pr);
+/* The canonical hit at distance s, point p (within perr) with normal n, in
+** the world. */
+void      placed_finish(const placed_geom *g, const placed_ray *pr, double s, lc_vec3 p,
+                        lc_vec3 perr, lc_vec3 n, hit *h);
+/* Bounds: canonical points (x, y) of radius rho at heights z0..z1 along
+** canonical z, for axial shapes; a whole canonical box otherwise. */
+void      placed_bounds_axial(const placed_geom *g, double rho0, double rho1, double z0,
+                              double z1, float lo[3], float hi[3]);
+/* A frame (b1, b2, axis) around a unit axis, for to_shape. */
+void      placed_frame(lc_vec3 axis, lc_vec3 *b1, lc_vec3 *b2);
+/* The shared checks: a moved shape's xf, an axis, a positive length. */
+lc_status placed_check_xf(const lc_shape *s, lc_error *err);
+lc_status placed_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
+                           lc_error *err);
+void      placed_scale(lc_shape *s, double k, lc_vec3 offset, int scales_u);
+/* World area of a canonical parametric patch: sum of |M ta x M tb| da db. */
+double    placed_patch_area(const placed_geom *g,
+                            void (*patch)(const placed_geom *, double, double, lc_vec3 *,
+                                          lc_vec3 *, lc_vec3 *),
+                            int n);
+
+/* One sample of a placed light: a canonical point p with tangents ta, tb
+** (their cross product's length the canonical area element for the
+** sample's share of the parameter square), turned into a light sample. */
+int       placed_light_sample(const placed_geom *g, lc_vec3 p, lc_vec3 ta, lc_vec3 tb,
+                              double weight, lc_vec3 from, uint32_t S, light_sample *out);
+
+/* disc.c: the unit disc in z = 0, holed to k0 (inner / outer radius). */
+lc_status disc_check(const lc_shape *s, lc_error *err);
+void      disc_prepare(const lc_shape *s, placed_geom *g);
+double    disc_t(const placed_geom *g, const ray *r, double tmin, double tmax);
+int       disc_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit *h);
+void      disc_bounds(const placed_geom *g, float lo[3], float hi[3]);
+int       disc_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint32_t S,
+                            light_sample *out);
+
+/* cylinder.c: x^2 + y^2 = 1, 0 <= z <= 1, capped when the shape says. */
+lc_status cylinder_check(const lc_shape *s, lc_error *err);
+void      cylinder_prepare(const lc_shape *s, placed_geom *g);
+double    cylinder_t(const placed_geom *g, const ray *r, double tmin, double tmax);
+int       cylinder_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit *h);
+void      cylinder_bounds(const placed_geom *g, float lo[3], float hi[3]);
+int       cylinder_light_sample(const placed_geom *g, lc_vec3 p, const double u[2],
+                                uint32_t S, light_sample *out);
+
+/* cone.c: x^2 + y^2 = (k0 + (k1 - k0) z)^2, 0 <= z <= 1, max(k0, k1) = 1. */
+lc_status cone_check(const lc_shape *s, lc_error *err);
+void      cone_prepare(const lc_shape *s, placed_geom *g);
+double    cone_t(const placed_geom *g, const ray *r, double tmin, double tmax);
+int       cone_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit *h);
+void      cone_bounds(const placed_geom *g, float lo[3], float hi[3]);
+int       cone_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint32_t S,
+                            light_sample *out);
+
+/* torus.c: around the z axis, major radius 1, minor k0 < 1; a quartic. */
+lc_status torus_check(const lc_shape *s, lc_error *err);
+void      torus_prepare(const lc_shape *s, placed_geom *g);
+double    torus_t(const placed_geom *g, const ray *r, double tmin, double tmax);
+int       torus_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit *h);
+void      torus_bounds(const placed_geom *g, float lo[3], float hi[3]);
+int       torus_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint32_t S,
+                             light_sample *out);
+/* The canonical roots (up to 4, ascending) of the ray's quartic in (lo, hi). */
+int       torus_roots(double minor, const ray *r, double lo, double hi, double roots[4]);
+
+/* ellipsoid.c: the unit sphere, placed. */
+lc_status ellipsoid_check(const lc_shape *s, lc_error *err);
+void      ellipsoid_prepare(const lc_shape *s, placed_geom *g);
+double    ellipsoid_t(const placed_geom *g, const ray *r, double tmin, double tmax);
+int       ellipsoid_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit *h);
+void      ellipsoid_bounds(const placed_geom *g, float lo[3], float hi[3]);
+int       ellipsoid_light_sample(const placed_geom *g, lc_vec3 p, const double u[2],
+                                 uint32_t S, light_sample *out);
 
 /* ---- The dispatch (shape.c) --------------------------------------------------------- */
 

@@ -47,13 +47,18 @@ lc_status sphere_transform(const lc_shape *s, const lc_transform *t, lc_shape *o
                 big = g[j][j];
         }
     double tol = UNIFORM_TOL * big;
-    if (fabs(g[0][1]) > tol || fabs(g[0][2]) > tol || fabs(g[1][2]) > tol ||
-        fabs(g[0][0] - g[1][1]) > tol || fabs(g[0][0] - g[2][2]) > tol)
-        return error_fail(err, LC_EARG, "transform", "a sphere scales uniformly; this "
-                       "transform stretches or shears it (axes scaled by %g, %g, %g): "
-                       "use a mesh for an ellipsoid", sqrt(g[0][0]), sqrt(g[1][1]),
-                       sqrt(g[2][2]));
+    (void)err;
     *out = *s;
+    if (fabs(g[0][1]) > tol || fabs(g[0][2]) > tol || fabs(g[1][2]) > tol ||
+        fabs(g[0][0] - g[1][1]) > tol || fabs(g[0][0] - g[2][2]) > tol) {
+        /* Stretched or sheared: the ellipsoid of radii r, placed by t. */
+        out->kind = LC_ELLIPSOID;
+        out->u = v3(s->radius, s->radius, s->radius);
+        out->radius = 0;
+        out->moved = 1;
+        out->xf = *t;
+        return LC_OK;
+    }
     out->p = lc_transform_point(t, s->p);
     /* The mean square keeps exact scales exact: 2 I gives 2. */
     out->radius = s->radius * sqrt((g[0][0] + g[1][1] + g[2][2]) / 3);

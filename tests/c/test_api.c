@@ -22,7 +22,7 @@ static void readme_example_renders(void **state)
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
     assert_int_equal(mi, 0);
-    lc_shape ball = {LC_SPHERE, {0, 1, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 1};
+    lc_shape ball = {.kind = LC_SPHERE, .p = {0, 1, 0}, .radius = 1};
     assert_int_equal(lc_scene_add_shape(s, &ball, mi, &err), 0);
     lc_point_light l = {{0, 1, -4}, {1, 1, 1}, 27, LC_FALLOFF_INVERSE_SQUARE};
     assert_int_equal(lc_scene_add_light(s, &l, &err), 1);   /* ids: one per add */
@@ -65,7 +65,7 @@ static void defaults_and_rules_live_in_the_core(void **state)
     assert_string_equal(err.field, "cutoff");
     o.cutoff = NAN;
     assert_int_equal(lc_render_options_check(&o, &err), LC_EARG);
-    lc_shape pl = {LC_PLANE, {0, 1, 0}, {0, 3, 4}, {0, 0, 0}, {0, 0, 0}, 0}, stored;
+    lc_shape pl = {.kind = LC_PLANE, .p = {0, 1, 0}, .u = {0, 3, 4}}, stored;
     assert_int_equal(lc_shape_stored(&pl, &stored, &err), LC_OK);
     assert_true(stored.u.x == 0 && fabs(stored.u.y - 0.6) < 3e-16 &&
                 fabs(stored.u.z - 0.8) < 3e-16);
@@ -93,7 +93,7 @@ static void dark_renders_warn(void **state)
     assert_int_equal(lc_scene_set_camera(s, &cam, &err), LC_OK);
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
-    lc_shape ball = {LC_SPHERE, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 1};
+    lc_shape ball = {.kind = LC_SPHERE, .radius = 1};
     lc_scene_add_shape(s, &ball, mi, &err);
     lc_render_options o = lc_render_options_default();
     o.width = o.height = 8;
@@ -122,7 +122,7 @@ static void errors_name_the_field(void **state)
     lc_scene *s = lc_scene_new(&err);
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
-    lc_shape bad = {LC_SPHERE, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, -2};
+    lc_shape bad = {.kind = LC_SPHERE, .radius = -2};
     assert_int_equal(lc_scene_add_shape(s, &bad, mi, &err), -1);
     assert_int_equal(err.code, LC_EARG);
     assert_string_equal(err.field, "radius");
@@ -152,7 +152,7 @@ static void progress_can_cancel(void **state)
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
     for (int i = 0; i < 200; i++) {
-        lc_shape b = {LC_SPHERE, {i * 0.01, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 1};
+        lc_shape b = {.kind = LC_SPHERE, .p = {i * 0.01, 0, 0}, .radius = 1};
         lc_scene_add_shape(s, &b, mi, &err);
     }
     int calls = 0;
@@ -194,7 +194,7 @@ static void interrupt_cancels_running_renders_only(void **state)
     lc_scene_set_camera(s, &cam, &err);
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
-    lc_shape b = {LC_SPHERE, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 1};
+    lc_shape b = {.kind = LC_SPHERE, .radius = 1};
     lc_scene_add_shape(s, &b, mi, &err);
     struct sigaction sa, old;
     memset(&sa, 0, sizeof sa);

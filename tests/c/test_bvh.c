@@ -67,14 +67,12 @@ static void bvh_matches_brute_force(void **state)
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
     for (int i = 0; i < 3000; i++) {
-        lc_shape sp = {LC_SPHERE, {20 * rnd() - 10, 20 * rnd() - 10, 20 * rnd() - 10},
-                       {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 0.05 + 0.4 * rnd()};
+        lc_shape sp = {.kind = LC_SPHERE, .p = {20 * rnd() - 10, 20 * rnd() - 10, 20 * rnd() - 10}, .radius = 0.05 + 0.4 * rnd()};
         assert_true(lc_scene_add_shape(s, &sp, mi, &err) >= 0);
     }
     for (int i = 0; i < 300; i++) {
         lc_vec3 c = v3(20 * rnd() - 10, 20 * rnd() - 10, 20 * rnd() - 10);
-        lc_shape b = {LC_BOX, c, {rnd() + 0.1, 0, 0}, {0, rnd() + 0.1, 0},
-                      {0, 0, rnd() + 0.1}, 0};
+        lc_shape b = {.kind = LC_BOX, .p = c, .u = {rnd() + 0.1, 0, 0}, .v = {0, rnd() + 0.1, 0}, .w = {0, 0, rnd() + 0.1}};
         assert_true(lc_scene_add_shape(s, &b, mi, &err) >= 0);
     }
     lc_mesh *mesh = lc_mesh_new(&err);

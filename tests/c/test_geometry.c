@@ -25,7 +25,7 @@ static ray mkray(lc_vec3 o, lc_vec3 d)
 
 static sphere_geom mksphere(lc_vec3 c, double r)
 {
-    lc_shape s = {LC_SPHERE, c, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, r};
+    lc_shape s = {.kind = LC_SPHERE, .p = c, .radius = r};
     sphere_geom g;
     sphere_prepare(&s, &g);
     return g;
@@ -33,7 +33,7 @@ static sphere_geom mksphere(lc_vec3 c, double r)
 
 static quad_geom mkquad(lc_vec3 q, lc_vec3 u, lc_vec3 v)
 {
-    lc_shape s = {LC_QUAD, q, u, v, {0, 0, 0}, 0};
+    lc_shape s = {.kind = LC_QUAD, .p = q, .u = u, .v = v};
     quad_geom g;
     quad_prepare(&s, &g);
     return g;
@@ -41,7 +41,7 @@ static quad_geom mkquad(lc_vec3 q, lc_vec3 u, lc_vec3 v)
 
 static box_geom mkbox(lc_vec3 p, lc_vec3 u, lc_vec3 v, lc_vec3 w)
 {
-    lc_shape s = {LC_BOX, p, u, v, w, 0};
+    lc_shape s = {.kind = LC_BOX, .p = p, .u = u, .v = v, .w = w};
     box_geom g;
     box_prepare(&s, &g);
     return g;
@@ -49,7 +49,7 @@ static box_geom mkbox(lc_vec3 p, lc_vec3 u, lc_vec3 v, lc_vec3 w)
 
 static plane_geom mkplane(lc_vec3 p, lc_vec3 n)
 {
-    lc_shape s = {LC_PLANE, p, n, {0, 0, 0}, {0, 0, 0}, 0};
+    lc_shape s = {.kind = LC_PLANE, .p = p, .u = n};
     plane_geom g;
     plane_prepare(&s, &g);
     return g;

@@ -104,13 +104,13 @@ static void compile(lc_scene *s)
 
 static lc_shape sphere_shape(lc_vec3 c, double r)
 {
-    lc_shape sh = {LC_SPHERE, c, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, r};
+    lc_shape sh = {.kind = LC_SPHERE, .p = c, .radius = r};
     return sh;
 }
 
 static lc_shape quad_shape(lc_vec3 q, lc_vec3 u, lc_vec3 v)
 {
-    lc_shape sh = {LC_QUAD, q, u, v, {0, 0, 0}, 0};
+    lc_shape sh = {.kind = LC_QUAD, .p = q, .u = u, .v = v};
     return sh;
 }
 
@@ -580,7 +580,7 @@ static void spawn_box_solid(void **state)
                     mkface(far, v3_neg(e[2]), v3_neg(e[0]), 0, centre)};
                 int mat;
                 lc_scene *sc = new_scene(&mat);
-                lc_shape box = {LC_BOX, q, e[0], e[1], e[2], 0};
+                lc_shape box = {.kind = LC_BOX, .p = q, .u = e[0], .v = e[1], .w = e[2]};
                 add_shape(sc, box, mat);
                 compile(sc);
                 for (int k = 0; k < 200; k++) {
@@ -687,16 +687,14 @@ static void thin_slab_occludes(void **state)
             lc_vec3 o0 = shift_of(shifts[ti]);
             int mat;
             lc_scene *sc = new_scene(&mat);
-            lc_shape plane = {LC_PLANE, o0, {0, 1, 0}, {0, 0, 0}, {0, 0, 0}, 0};
+            lc_shape plane = {.kind = LC_PLANE, .p = o0, .u = {0, 1, 0}};
             add_shape(sc, plane, mat);
-            lc_shape slab = {LC_BOX, v3_madd(o0, v3(-1, 1, -1), s), {2 * s, 0, 0},
-                             {0, 1e-6 * s, 0}, {0, 0, 2 * s}, 0};
+            lc_shape slab = {.kind = LC_BOX, .p = v3_madd(o0, v3(-1, 1, -1), s), .u = {2 * s, 0, 0}, .v = {0, 1e-6 * s, 0}, .w = {0, 0, 2 * s}};
             add_shape(sc, slab, mat);
             /* the same slab tilted, further along x */
             lc_vec3 u = v3(2 * s * cos(0.3), 2 * s * sin(0.3), 0);
             lc_vec3 v = v3_mul(v3_norm(v3(-sin(0.3), cos(0.3), 0)), 1e-6 * s);
-            lc_shape tilted = {LC_BOX, v3_madd(o0, v3(4, 1, -1), s), u, v,
-                               {0, 0, 2 * s}, 0};
+            lc_shape tilted = {.kind = LC_BOX, .p = v3_madd(o0, v3(4, 1, -1), s), .u = u, .v = v, .w = {0, 0, 2 * s}};
             add_shape(sc, tilted, mat);
             compile(sc);
             uint64_t seed = 8000 + si * 10 + ti;
@@ -812,7 +810,7 @@ static void tiny_sphere_is_exact(void **state)
     assert_int_equal(lc_scene_add_shape(sc, &below, mat, &err), -1);
     assert_string_equal(err.field, "radius");
     add_shape(sc, sphere_shape(v3(0, 0, 2), LC_MIN_LENGTH), mat);
-    lc_shape wall = {LC_PLANE, {0, 0, 5}, {0, 0, -1}, {0, 0, 0}, {0, 0, 0}, 0};
+    lc_shape wall = {.kind = LC_PLANE, .p = {0, 0, 5}, .u = {0, 0, -1}};
     add_shape(sc, wall, mat);
     compile(sc);
     ray r = mkray(v3(0, 0, -3), v3(0, 0, 1));
