@@ -60,6 +60,13 @@ void hook_register(lua_State *L);      /* lua_hook.c: set_host_hook */
 
 /* lua_scene.c: the scene userdata at idx, raising when it is not one or is freed. */
 ud_scene *scene_check(lua_State *L, int idx);
+/* The core scene of the userdata at idx, raising as scene_check does. Any
+** call that can run Lua code may close a scene, mesh or image: a metamethod
+** (lua_getfield, lua_geti, luaL_len, luaL_tolstring on a script's value) or
+** a finalizer, which the collector may run at any allocation. So a binding
+** fetches a core pointer after the last such call, right before the lc_
+** call that uses it, and never keeps one across such a call. */
+lc_scene *scene_at(lua_State *L, int idx);
 
 /* lua_render.c: the options render and explain share, from the named-field
 ** table at arg (checked by the caller's lf_open against RENDER_OPTIONS). */

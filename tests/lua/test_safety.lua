@@ -1,0 +1,128 @@
+-- test_safety.lua: scripts that close a scene, mesh or image from inside a
+-- metamethod lancer calls while it works on that object (an __index or
+-- __len on an options table or a list, a __tostring, the host hook's
+-- plain, a finalizer), and lists that change under scene:add. Each must
+-- end in a clean error or a correct result, never a crash or a read of
+-- freed memory: run them under ASan too (make SAN=1 BUILD=build/san, then
+-- lua5.4 with libasan preloaded and LUA_CPATH='build/san/?.so;;').
+local T = require "harness"
+local lancer = require "lancer"
+
+local HERE = "test_safety.lua:"
+
+-- Closes obj as a script can from anywhere: a <close> variable's end.
+local function close(obj)
+  local x <close> = obj
+end
+
+-- A table that closes obj at the first read of a field it lacks.
+local function closing(obj, fields)
+  return setmetatable(fields or {}, {__index = function() close(obj) end})
+end
+
+-- A list of n elements whose reads (# and [i]) close obj first, each
+-- element what make(i) returns.
+local function closing_list(obj, n, make)
+  return setmetatable({}, {
+    __len = function() close(obj) return n end,
+    __index = function(_, i) close(obj) return make(i) end})
+end
+
+-- A vector {x, y, z} whose reads close obj first.
+local function closing_vec(obj, x, y, z)
+  local v = {x, y, z}
+  return closing_list(obj, 3, function(i) return v[i] end)
+end
+
+local function lit_scene()
+  local s = lancer.scene{camera = lancer.camera{from = {0, 0, 5}, at = {0, 0, 0}}}
+  s:add(lancer.sphere{center = {0, 0, 0}, radius = 3},
+        lancer.point_light{position = {0, 5, 5}, intensity = 10})
+  return s
+end
+
+local function sphere() return lancer.sphere{center = {0, 0, 0}, radius = 1} end
+
+local function triangle()
+  return lancer.triangle{a = {0, 0, 0}, b = {1, 0, 0}, c = {0, 1, 0}}
+end
+
+-- Runs f with the host hook set to hook, then restores the one before.
+local function with_hook(hook, f)
+  local old = lancer.set_host_hook(hook)
+  local ok, err = pcall(f)
+  lancer.set_host_hook(old)
+  if not ok then error(err, 0) end
+end
+
+local freed = "lancer.Scene already freed"
+
+-- ---- building scenes -------------------------------------------------------
+
+T.test("transformed: the offset's __len and __index close the scene", function()
+  local s = lit_scene()
+  T.check_error(function() s:transformed(2, closing_vec(s, 1, 2, 3)) end,
+                HERE, "'transformed'", freed)
+end)
+
+T.test("add: a list whose reads close the scene", function()
+  local s = lit_scene()
+  T.check_error(function() s:add(closing_list(s, 2, sphere)) end, HERE, "'add'", freed)
+end)
+
+T.test("add: a list whose reads close a mesh in it; the scene stays as it was",
+       function()
+  local s = lit_scene()
+  local m = triangle()
+  local list = setmetatable({m}, {__len = function() return 2 end,
+                                  __index = function() close(m) return sphere() end})
+  T.check_error(function() s:add(list) end, HERE, "'add'", "lancer.Mesh already freed")
+  T.eq(#s:objects(), 2, "objects after the failed add")
+end)
+
+T.test("add: an element that turns into the list itself is read once", function()
+  local s = lancer.scene{}
+  local reads, list = 0, nil
+  list = setmetatable({}, {__len = function() return 1 end, __index = function()
+    reads = reads + 1
+    if reads == 1 then return sphere() end
+    return list                       -- a second read would recurse for ever
+  end})
+  s:add(list)
+  T.eq(reads, 1, "reads of the element")
+  T.eq(s:count(), 1, "shapes")
+end)
+
+T.test("add: a list holding itself, and groups nested too deep, are refused", function()
+  local s = lancer.scene{}
+  local l = {sphere()}
+  l[2] = l
+  T.check_error(function() s:add(l) end, HERE, "'add'", "element 2:",
+                "lists and groups nest at most 64 deep")
+  local g = lancer.group{sphere()}
+  for _ = 1, 70 do g = lancer.group{g} end
+  T.check_error(function() s:add(g) end, HERE, "'add'",
+                "lists and groups nest at most 64 deep")
+  T.eq(s:count(), 0, "shapes after the failed adds")
+  local ok = lancer.group{sphere()}
+  for _ = 1, 60 do ok = lancer.group{ok} end
+  s:add(ok)
+  T.eq(s:count(), 1, "a group 61 deep")
+end)
+
+T.test("scene.background and scene.ambient: a colour whose reads close the scene",
+       function()
+  local s = lit_scene()
+  T.check_error(function() s.background = closing_vec(s, 0.5, 0.5, 0.5) end,
+                HERE, "scene.background", freed)
+  local s2 = lit_scene()
+  T.check_error(function() s2.ambient = closing_vec(s2, 0.1, 0.1, 0.1) end,
+                HERE, "scene.ambient", freed)
+end)
+
+T.test("scene.camera: a freed scene is refused", function()
+  local s = lit_scene()
+  close(s)
+  local cam = lancer.camera{from = {0, 0, 1}, at = {0, 0, 0}}
+  T.check_error(function() s.camera = cam end, HERE, freed)
+end)
