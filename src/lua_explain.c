@@ -101,11 +101,13 @@ typedef struct {
     int x, y, sample;          /* 1-based, as given */
 } explain_args;
 
-/* Checks explain's arguments: the scene at 1, the options table at 2. */
-static ud_scene *explain_read(lua_State *L, explain_args *a, int plain)
+/* Checks explain's arguments: the scene at 1, the options table at 2.
+** Reading the options may run a script's metamethods: explain_work checks
+** the scene again. */
+static void explain_read(lua_State *L, explain_args *a, int plain)
 {
     static const char *const known[] = {"x", "y", "sample", RENDER_OPTIONS, NULL};
-    ud_scene *u = scene_check(L, 1);
+    scene_check(L, 1);
     lua_settop(L, 2);
     lf_open(L, 2, known);
     render_read_options(L, 2, &a->o);
@@ -115,11 +117,12 @@ static ud_scene *explain_read(lua_State *L, explain_args *a, int plain)
     lc_error err;
     if (lc_render_options_check(&a->o, &err))
         hook_raise(L, plain, 2, &err);
-    return u;
 }
 
-static int explain_work(lua_State *L, ud_scene *u, const explain_args *a, int plain)
+/* Explains a pixel of the scene at 1: pushes its tree. */
+static int explain_work(lua_State *L, const explain_args *a, int plain)
 {
+    scene_check(L, 1);
     /* The records belong to a userdata from the start: building the tables
     ** may raise (out of memory) and nothing may leak then. */
     lc_ray_record **box = lua_newuserdatauv(L, sizeof *box, 0);
@@ -130,7 +133,9 @@ static int explain_work(lua_State *L, ud_scene *u, const explain_args *a, int pl
     lua_setmetatable(L, -2);
     size_t n;
     lc_error err;
-    if (lc_scene_explain(u->s, &a->o, a->x - 1, a->y - 1, a->sample - 1, box, &n, &err))
+    /* Fetched after the allocations above, which may run finalizers. */
+    if (lc_scene_explain(scene_at(L, 1), &a->o, a->x - 1, a->y - 1, a->sample - 1, box,
+                         &n, &err))
         return hook_raise(L, plain, 2, &err);
     push_tree(L, *box, n);
     return 1;
@@ -140,8 +145,8 @@ static int explain_work(lua_State *L, ud_scene *u, const explain_args *a, int pl
 static int explain_plain(lua_State *L)
 {
     explain_args a;
-    ud_scene *u = explain_read(L, &a, 1);
-    return explain_work(L, u, &a, 1);
+    explain_read(L, &a, 1);
+    return explain_work(L, &a, 1);
 }
 
 /* scene:explain{x = , y = , sample = 1, ...render options}: the ray tree of
@@ -149,9 +154,9 @@ static int explain_plain(lua_State *L)
 static int w_scene_explain(lua_State *L)
 {
     explain_args a;
-    ud_scene *u = explain_read(L, &a, 0);
+    explain_read(L, &a, 0);
     int n = hook_call(L, "explain", explain_plain, 2);
-    return n >= 0 ? n : explain_work(L, u, &a, 0);
+    return n >= 0 ? n : explain_work(L, &a, 0);
 }
 
 /* The printed tree stops this many levels below the ray printed, with a

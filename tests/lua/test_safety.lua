@@ -126,3 +126,46 @@ T.test("scene.camera: a freed scene is refused", function()
   local cam = lancer.camera{from = {0, 0, 1}, at = {0, 0, 0}}
   T.check_error(function() s.camera = cam end, HERE, freed)
 end)
+
+-- ---- render and explain ----------------------------------------------------
+
+T.test("render: the options' __index closes the scene", function()
+  local s = lit_scene()
+  T.check_error(function() s:render(closing(s, {width = 4, height = 4})) end,
+                HERE, "'render'", freed)
+end)
+
+T.test("render: the host hook's plain, given options that close the scene", function()
+  local s = lit_scene()
+  with_hook(function(_, plain, self, opts)
+    return plain(self, closing(self, {width = 4, height = 4}))
+  end, function()
+    T.check_error(function() s:render{width = 4, height = 4} end, freed)
+  end)
+end)
+
+T.test("render: the host hook closes the scene, then calls plain", function()
+  local s = lit_scene()
+  with_hook(function(_, plain, self, opts)
+    close(self)
+    return plain(self, opts)
+  end, function()
+    T.check_error(function() s:render{width = 4, height = 4} end, freed)
+  end)
+end)
+
+T.test("explain: the options' __index closes the scene", function()
+  local s = lit_scene()
+  T.check_error(function()
+    s:explain(closing(s, {x = 1, y = 1, width = 4, height = 4}))
+  end, HERE, "'explain'", freed)
+end)
+
+T.test("explain: the host hook's plain, given options that close the scene", function()
+  local s = lit_scene()
+  with_hook(function(_, plain, self, opts)
+    return plain(self, closing(self, {x = 1, y = 1, width = 4, height = 4}))
+  end, function()
+    T.check_error(function() s:explain{x = 1, y = 1, width = 4, height = 4} end, freed)
+  end)
+end)
