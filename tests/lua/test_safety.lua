@@ -169,3 +169,34 @@ T.test("explain: the host hook's plain, given options that close the scene", fun
     T.check_error(function() s:explain{x = 1, y = 1, width = 4, height = 4} end, freed)
   end)
 end)
+
+-- ---- listing and removing --------------------------------------------------
+
+T.test("remove: the entry's __index closes the scene", function()
+  local s = lit_scene()
+  T.check_error(function()
+    s:remove(setmetatable({}, {__index = function() close(s) return 1 end}))
+  end, HERE, "'remove'", freed)
+end)
+
+T.test("remove: a shape's __tostring closes the scene", function()
+  local s = lit_scene()
+  local sp = sphere()
+  s:add(sp)
+  local mt = getmetatable(sp)
+  local saved = mt.__tostring
+  mt.__tostring = function() close(s) return "the sphere" end
+  local ok, err = pcall(function() s:remove(sp) end)
+  mt.__tostring = saved
+  assert(not ok, "no error raised")
+  T.has(err, freed)
+end)
+
+T.test("objects: entries outlive their scene; a freed scene is refused", function()
+  local s = lit_scene()
+  local list = s:objects()
+  close(s)
+  T.eq(#list, 2, "entries")
+  T.has(tostring(list[2]), "#2 lancer.point_light{")
+  T.check_error(function() s:objects() end, HERE, "'objects'", freed)
+end)
