@@ -200,3 +200,48 @@ T.test("objects: entries outlive their scene; a freed scene is refused", functio
   T.has(tostring(list[2]), "#2 lancer.point_light{")
   T.check_error(function() s:objects() end, HERE, "'objects'", freed)
 end)
+
+-- ---- meshes ----------------------------------------------------------------
+
+local mesh_freed = "lancer.Mesh already freed"
+
+T.test("mesh:add_vertices: a nested point list whose reads close the mesh", function()
+  local m = triangle()
+  T.check_error(function()
+    m:add_vertices(closing_list(m, 2, function() return {1, 1, 1} end))
+  end, HERE, mesh_freed)
+end)
+
+T.test("mesh:add_vertices: a flat list whose reads close the mesh", function()
+  local m = triangle()
+  T.check_error(function()
+    m:add_vertices(closing_list(m, 3, function(i) return i end))
+  end, HERE, mesh_freed)
+end)
+
+T.test("mesh:add_vertices: a point whose reads close the mesh", function()
+  local m = triangle()
+  T.check_error(function() m:add_vertices{closing_vec(m, 1, 2, 3)} end, HERE, mesh_freed)
+end)
+
+T.test("mesh:add_normals: a list whose reads close the mesh", function()
+  local m = triangle()
+  T.check_error(function()
+    m:add_normals(closing_list(m, 3, function() return {0, 0, 1} end))
+  end, HERE, mesh_freed)
+end)
+
+T.test("mesh:add_faces: nested and flat lists whose reads close the mesh", function()
+  local m = triangle()
+  T.check_error(function()
+    m:add_faces(closing_list(m, 1, function() return {1, 2, 3} end))
+  end, HERE, mesh_freed)
+  local m2 = triangle()
+  T.check_error(function()
+    m2:add_faces(closing_list(m2, 3, function(i) return i end))
+  end, HERE, mesh_freed)
+  local m3 = triangle()
+  T.check_error(function()
+    m3:add_faces{closing_list(m3, 3, function(i) return i end)}
+  end, HERE, mesh_freed)
+end)
