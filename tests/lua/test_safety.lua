@@ -245,3 +245,25 @@ T.test("mesh:add_faces: nested and flat lists whose reads close the mesh", funct
     m3:add_faces{closing_list(m3, 3, function(i) return i end)}
   end, HERE, mesh_freed)
 end)
+
+-- ---- images ----------------------------------------------------------------
+
+local image_freed = "lancer.Image already freed"
+
+T.test("img:save: the options' __index closes the image", function()
+  local img = lancer.image{width = 2, height = 2}
+  local path = os.tmpname() .. ".png"
+  T.check_error(function() img:save(path, closing(img)) end, HERE, "'save'", image_freed)
+  T.eq(io.open(path), nil, "a file written")
+end)
+
+T.test("img:save: the host hook's plain, given options that close the image", function()
+  local img = lancer.image{width = 2, height = 2}
+  local path = os.tmpname() .. ".png"
+  with_hook(function(_, plain, self, p)
+    return plain(self, p, closing(self))
+  end, function()
+    T.check_error(function() img:save(path) end, image_freed)
+  end)
+  T.eq(io.open(path), nil, "a file written")
+end)
