@@ -267,3 +267,58 @@ T.test("img:save: the host hook's plain, given options that close the image", fu
   end)
   T.eq(io.open(path), nil, "a file written")
 end)
+
+-- ---- finalizers ------------------------------------------------------------
+
+-- A finalizer runs at whatever allocation the collector picks, often
+-- inside the binding's own (a userdata for the image, a table for the
+-- statistics). Garbage whose __gc closes the objects, made before each
+-- call with a different amount of other garbage after it, strikes the
+-- methods at many points over the runs; each call must end in a result
+-- or a clean error.
+T.test("finalizers that close the scene, mesh or image strike mid-method", function()
+  local calls = {
+    function(s) return s:render{width = 2, height = 2} end,
+    function(s) return s:explain{x = 1, y = 1, width = 2, height = 2} end,
+    function(s) return s:transformed(2, {1, 2, 3}) end,
+    function(s) return s:add({sphere(), lancer.point_light{position = {0, 1, 0}}}) end,
+    function(s) return s:objects() end,
+    function(s) return s:remove(1) end,
+    function(s) s.background = {0.1, 0.2, 0.3} end,
+    function(s, m) return s:add(m:moved(lancer.translate(1, 0, 0)), m) end,
+    function(_, m) return m:add_vertices{{1, 1, 1}, {2, 2, 2}} end,
+    function(_, m) return m:add_faces{{1, 2, 3}} end,
+    function(_, _, img) return img:save(os.tmpname() .. ".png") end,
+    function(_, _, img) return img:add(img) end,
+  }
+  local struck = {}                     -- per call: finalizers run inside it
+  local inside
+  -- Generational, a minor collection at each 1 % of growth: each runs the
+  -- finalizers of the garbage made since the last.
+  local mode = collectgarbage("generational", 1, 100)
+  local ok, err = pcall(function()
+    for run = 1, 40 do
+      for c, call in ipairs(calls) do
+        local s, m, img = lit_scene(), triangle(), lancer.image{width = 2, height = 2}
+        setmetatable({}, {__gc = function()     -- garbage, finalized soon
+          if inside then struck[inside] = (struck[inside] or 0) + 1 end
+          close(s) close(m) close(img)
+        end})
+        for k = 1, run do local _ = {k} end   -- a different phase each run
+        inside = c
+        local done, why = pcall(call, s, m, img)
+        inside = nil
+        if not done then
+          why = tostring(why)
+          assert(why:find("already freed", 1, true), why)
+        end
+      end
+    end
+  end)
+  collectgarbage("generational", 20, 100)       -- lua5.4's defaults
+  if mode == "incremental" then collectgarbage("incremental") end
+  assert(ok, err)
+  local total = 0
+  for _, n in pairs(struck) do total = total + n end
+  assert(total > 0, "no finalizer ran inside a method: the test tests nothing")
+end)
