@@ -90,6 +90,7 @@ static int w_load_png(lua_State *L)
     ui->img = lc_image_load_png(lua_tostring(L, 1), enc, &err);
     if (!ui->img)
         return luaL_argerror(L, 1, err.msg);
+    lancer_charge(L);
     return 1;
 }
 
@@ -209,6 +210,7 @@ static int w_image(lua_State *L)
         for (int y = 0; y < h; y++)
             for (int x = 0; x < w; x++)
                 lc_image_set(ui->img, x, y, c);
+    lancer_charge(L);
     return 1;
 }
 

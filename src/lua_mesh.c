@@ -205,6 +205,7 @@ static int w_mesh(lua_State *L)
     if (lua_getfield(L, 1, "faces") != LUA_TNIL)
         read_faces(L, 1, -1, top, "faces");
     lua_settop(L, top);
+    lancer_charge(L);
     return 1;
 }
 
@@ -253,6 +254,7 @@ static int w_load_obj(lua_State *L)
     u->m = lc_mesh_load_obj(path, &err);
     if (!u->m)
         return luaL_argerror(L, 1, err.msg);     /* names 'load_obj', the file, the line */
+    lancer_charge(L);
     return 1;
 }
 
@@ -261,6 +263,7 @@ static int w_mesh_add_vertices(lua_State *L)
     check_mesh(L, 1);
     read_points(L, 2, 2, 1, 0, "vertices");
     lua_pushinteger(L, (lua_Integer)lc_mesh_vertex_count(check_mesh(L, 1)));
+    lancer_charge(L);
     return 1;
 }
 
@@ -268,6 +271,7 @@ static int w_mesh_add_normals(lua_State *L)
 {
     check_mesh(L, 1);
     read_points(L, 2, 2, 1, 1, "normals");
+    lancer_charge(L);
     return 0;
 }
 
@@ -276,6 +280,7 @@ static int w_mesh_add_faces(lua_State *L)
     check_mesh(L, 1);
     read_faces(L, 2, 2, 1, "faces");
     lua_pushinteger(L, (lua_Integer)lc_mesh_face_count(check_mesh(L, 1)));
+    lancer_charge(L);
     return 1;
 }
 

@@ -151,6 +151,7 @@ static int render_work(lua_State *L, lc_render_options *o, int show, int plain)
                              "scene.camera = lancer.camera{...})");
         return hook_raise(L, plain, 2, &err);
     }
+    lancer_charge(L);
     push_stats(L, &st, lua_seconds);
     return 2;
 }

@@ -350,6 +350,7 @@ static int w_scene_add(lua_State *L)
         lua_settop(L, flat + 1);
     }
     lua_settop(L, 1);
+    lancer_charge(L);
     return 1;
 }
 
@@ -395,6 +396,7 @@ static int w_scene_transformed(lua_State *L)
         lua_pop(L, 1);
     }
     lua_settop(L, ci);
+    lancer_charge(L);
     return 1;
 }
 

@@ -45,6 +45,12 @@ enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4 };
 void lancer_class(lua_State *L, const char *name, const luaL_Reg *meta,
                   const luaL_Reg *methods);
 
+/* lua_lancer.c: tells Lua's collector how much the core's memory grew since
+** the last call (images, meshes, scenes): called after each lc_ call that
+** makes or grows one. It may run finalizers: call it last, with no core
+** pointer in use after it. */
+void lancer_charge(lua_State *L);
+
 /* Each file registers its metatables and sets its constructors in the module
 ** table at the top of the stack. */
 void objects_register(lua_State *L);   /* lua_objects.c: materials, lights, cameras */
