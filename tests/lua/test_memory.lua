@@ -67,3 +67,29 @@ os.execute("rm -rf " .. out)]]
   assert(many - one < 3 * frame, ("24 frames peak %.1f MB, one %.1f MB"):format(
     many / MB, one / MB))
 end)
+
+T.test("lancer.animate frees each frame's image once it is saved", function()
+  local dir = T.temp_dir()
+  local seen = {}
+  local old = lancer.set_host_hook(function(method, plain, ...)
+    local img, st = plain(...)
+    if method == "render" then seen[#seen + 1] = img end
+    return img, st
+  end)
+  local saved_stderr = io.stderr
+  io.stderr = {write = function() end, flush = function() end}   -- frame logs
+  local ok, err = pcall(lancer.animate, {frames = 3, output = dir .. "/f_%04d.png",
+    render = {width = 8, height = 6},
+    frame = function()
+      local s = lancer.scene{camera = lancer.camera{from = {0, 0, 5}, at = {0, 0, 0}},
+                             ambient = 0.1}
+      s:add(lancer.sphere{center = {0, 0, 0}, radius = 1})
+      return s
+    end})
+  io.stderr = saved_stderr
+  lancer.set_host_hook(old)
+  os.execute("rm -rf " .. T.quote(dir))
+  assert(ok, err)
+  T.eq(#seen, 3, "frames rendered")
+  for i, img in ipairs(seen) do T.eq(tostring(img), "lancer.Image (freed)", "frame " .. i) end
+end)
