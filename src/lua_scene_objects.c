@@ -73,7 +73,7 @@ static int w_scene_objects(lua_State *L)
 {
     size_t n = lc_scene_object_count(scene_at(L, 1));
     lc_object *objs = lua_newuserdatauv(L, (n + 1) * sizeof *objs, 0);  /* Lua frees it */
-    n = lc_scene_objects(scene_at(L, 1), objs, n);   /* after it: it may run finalizers */
+    n = lc_scene_objects(scene_at(L, 1), objs, n);   /* after it: it may run Lua */
     push_materials(L, 1);
     int mats = lua_gettop(L);
     lua_getiuservalue(L, 1, 1);

@@ -26,7 +26,9 @@ local function problem(v, name, want)
   local ok = want == "table" and type(v) == "table" or
              want == "number" and type(v) == "number" or
              want == "integer" and math.tointeger(v) ~= nil
-  if not ok then return ("field '%s': %s expected, got %s"):format(name, want, got(v)) end
+  if not ok then
+    return ("field '%s': %s expected, got %s"):format(name, want, got(v))
+  end
 end
 
 -- Raises at format's caller unless st is the statistics table of a render.
@@ -36,7 +38,8 @@ local function check(st, label)
     bad("statistics table of a render expected, got " .. got(st))
   end
   if label ~= nil and type(label) ~= "string" then
-    error(("bad argument #2 to 'ledger' (string expected, got %s)"):format(type(label)), 3)
+    error(("bad argument #2 to 'ledger' (string expected, got %s)"):format(
+      type(label)), 3)
   end
   for _, k in ipairs(INTEGERS) do
     local why = problem(st[k], k, "integer")

@@ -103,7 +103,9 @@ local CURVES = {
   smoothstep = function(t) return smooth(0, 1, t) end,
   in_quad = function(t) return t * t end,
   out_quad = function(t) return t * (2 - t) end,
-  in_out_quad = function(t) return t < 0.5 and 2 * t * t or 1 - 2 * (1 - t) * (1 - t) end,
+  in_out_quad = function(t)
+    return t < 0.5 and 2 * t * t or 1 - 2 * (1 - t) * (1 - t)
+  end,
   in_cubic = function(t) return t * t * t end,
   out_cubic = function(t) t = 1 - t return 1 - t * t * t end,
   in_out_cubic = function(t) return t < 0.5 and 4 * t * t * t or 1 - 4 * (1 - t) ^ 3 end,

@@ -13,7 +13,8 @@ local check = T.check_error
 T.test("lerp: t must be a number", function()
   check(function() lancer.lerp(0, 1, "x") end, HERE,
         "bad argument #3 to 'lerp' (number expected, got string)")
-  check(function() lancer.lerp(0, 1) end, HERE, "#3 to 'lerp' (number expected, got no value)")
+  check(function() lancer.lerp(0, 1) end, HERE,
+        "#3 to 'lerp' (number expected, got no value)")
 end)
 
 T.test("lerp: a must be a number or a list of numbers", function()
@@ -29,7 +30,7 @@ T.test("lerp: b must be of a's kind and length", function()
   check(function() lancer.lerp({1}, 2, 0.5) end, HERE,
         "bad argument #2 to 'lerp' (list of 1 number expected (as #1), got number)")
   check(function() lancer.lerp({1, 2, 3}, {1, 2}, 0.5) end, HERE,
-        "bad argument #2 to 'lerp' (list of 3 numbers expected (as #1), got a list of 2)")
+        "#2 to 'lerp' (list of 3 numbers expected (as #1), got a list of 2)")
   check(function() lancer.lerp({1, 2}, {1, false}, 0.5) end, HERE,
         "bad argument #2 to 'lerp' (component 2: number expected, got boolean)")
 end)

@@ -20,8 +20,8 @@ end
 ]])
   local args = {}
   for i, a in ipairs{...} do args[i] = T.quote(tostring(a)) end
-  local env = "ASAN_OPTIONS=" .. T.quote((os.getenv("ASAN_OPTIONS") or "detect_leaks=0") ..
-                                         ":quarantine_size_mb=0")
+  local asan = os.getenv("ASAN_OPTIONS") or "detect_leaks=0"
+  local env = "ASAN_OPTIONS=" .. T.quote(asan .. ":quarantine_size_mb=0")
   local out, err, code = T.run(("%s %s %s %s"):format(env, T.quote(T.lancer),
                                T.quote(path), table.concat(args, " ")))
   os.execute("rm -rf " .. T.quote(dir))
@@ -91,5 +91,7 @@ T.test("lancer.animate frees each frame's image once it is saved", function()
   os.execute("rm -rf " .. T.quote(dir))
   assert(ok, err)
   T.eq(#seen, 3, "frames rendered")
-  for i, img in ipairs(seen) do T.eq(tostring(img), "lancer.Image (freed)", "frame " .. i) end
+  for i, img in ipairs(seen) do
+    T.eq(tostring(img), "lancer.Image (freed)", "frame " .. i)
+  end
 end)
