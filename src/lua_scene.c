@@ -142,23 +142,30 @@ static int material_index(lua_State *L, int sidx, int midx, int arg)
 ** holds itself is refused instead of filling the C stack. */
 #define MAX_NESTING 64
 
-/* The flat list at `flat`: a run of objects (shape, light and mesh
-** userdata) after a marker: an integer n, the objects come from argument
-** n, not moved; false, not moved; a transform (a plain userdata holding
-** an lc_transform), moved by it. */
-static void flat_append(lua_State *L, int flat)
+/* The flat list, a table at stack index `at` holding n values: runs of
+** objects (shape, light and mesh userdata) each after a marker: an integer
+** i, the objects come from argument i, not moved; false, not moved; a
+** transform (a plain userdata holding an lc_transform), moved by it. */
+typedef struct {
+    int         at;
+    lua_Integer n;
+    int         meshes;     /* how many of the objects are meshes */
+} flat_list;
+
+/* Appends the value at the top to the list, popping it. */
+static void flat_append(lua_State *L, flat_list *fl)
 {
-    lua_rawseti(L, flat, (lua_Integer)lua_rawlen(L, flat) + 1);
+    lua_rawseti(L, fl->at, ++fl->n);
 }
 
-/* Appends the transform marker for xf (0: none) to flat. */
-static void flat_mark(lua_State *L, int flat, int xf)
+/* Appends the transform marker for xf (0: none). */
+static void flat_mark(lua_State *L, flat_list *fl, int xf)
 {
     if (xf)
         lua_pushvalue(L, xf);
     else
         lua_pushboolean(L, 0);
-    flat_append(L, flat);
+    flat_append(L, fl);
 }
 
 static const lc_transform *xf_at(lua_State *L, int xf)
@@ -181,7 +188,7 @@ static void element_error(lua_State *L, int arg, lua_Integer elem, const char *m
 ** scene as it was. Arrays are read as a script reads them (# and [i]),
 ** once; a group's members are its own copy, read raw. */
 static void flatten(lua_State *L, int idx, int arg, int depth, lua_Integer elem, int xf,
-                    int flat)
+                    flat_list *fl)
 {
     idx = lua_absindex(L, idx);
     luaL_checkstack(L, 8, "scene:add: lists nested too deep");   /* 3 a level */
@@ -207,8 +214,9 @@ static void flatten(lua_State *L, int idx, int arg, int depth, lua_Integer elem,
             element_error(L, arg, elem, err.msg);
     }
     if (sh || li || me) {
+        fl->meshes += me != NULL;
         lua_pushvalue(L, idx);
-        flat_append(L, flat);
+        flat_append(L, fl);
         return;
     }
     int group = luaL_testudata(L, idx, GROUP) != NULL;
@@ -220,23 +228,23 @@ static void flatten(lua_State *L, int idx, int arg, int depth, lua_Integer elem,
         lc_transform *moved = lua_newuserdatauv(L, sizeof *moved, 0);
         *moved = t ? lc_transform_compose(t, &g->t) : g->t;
         int gxf = lua_gettop(L);
-        flat_mark(L, flat, gxf);
+        flat_mark(L, fl, gxf);
         lua_getiuservalue(L, idx, 1);
         lua_Integer n = (lua_Integer)lua_rawlen(L, -1);
         for (lua_Integer i = 1; i <= n; i++) {
             lua_rawgeti(L, -1, i);
-            flatten(L, -1, arg, depth + 1, elem ? elem : i, gxf, flat);
+            flatten(L, -1, arg, depth + 1, elem ? elem : i, gxf, fl);
             lua_pop(L, 1);
         }
         lua_pop(L, 2);
-        flat_mark(L, flat, xf);
+        flat_mark(L, fl, xf);
         return;
     }
     if (lua_type(L, idx) == LUA_TTABLE) {
         lua_Integer n = luaL_len(L, idx);
         for (lua_Integer i = 1; i <= n; i++) {
             lua_geti(L, idx, i);
-            flatten(L, -1, arg, depth + 1, i, xf, flat);
+            flatten(L, -1, arg, depth + 1, i, xf, fl);
             lua_pop(L, 1);
         }
         return;
@@ -314,16 +322,17 @@ static int w_scene_add(lua_State *L)
                              "got no value");
     lua_newtable(L);
     int flat = n + 1;
+    flat_list fl = {flat, 0, 0};
     for (int i = 2; i <= n; i++) {
         lua_pushinteger(L, i);
-        flat_append(L, flat);
-        flatten(L, i, i, 0, 0, 0, flat);
+        flat_append(L, &fl);
+        flatten(L, i, i, 0, 0, 0, &fl);
     }
     /* What the reading ran may have closed a mesh or the scene: check
     ** them all before adding anything. */
-    lua_Integer len = (lua_Integer)lua_rawlen(L, flat);
+    lua_Integer len = fl.n;
     int arg = 2;
-    for (lua_Integer k = 1; k <= len; k++) {
+    for (lua_Integer k = 1; fl.meshes && k <= len; k++) {
         if (lua_rawgeti(L, flat, k) == LUA_TNUMBER)
             arg = (int)lua_tointeger(L, -1);
         else if (luaL_testudata(L, -1, MESH))
