@@ -11,6 +11,8 @@
 
 /* ---- images --------------------------------------------------------------- */
 
+/* The core image of the userdata at idx, raising when freed: fetched right
+** before the lc_ call that uses it (see scene_at in lua_types.h). */
 static lc_image *check_image(lua_State *L, int idx)
 {
     ud_image *u = luaL_checkudata(L, idx, IMAGE);
@@ -29,11 +31,13 @@ static int w_image_free(lua_State *L)              /* __gc and __close */
 
 static const char *const encoding_opts[] = {"srgb", "linear", NULL};
 
-/* Checks save's arguments: the image at 1, the path at 2, options at 3. */
-static lc_image *save_args(lua_State *L, lc_encoding *enc)
+/* Checks save's arguments: the image at 1, the path at 2, options at 3.
+** Reading the options may run a script's metamethods: save_work checks the
+** image again. */
+static void save_args(lua_State *L, lc_encoding *enc)
 {
     static const char *const known[] = {"encoding", NULL};
-    lc_image *img = check_image(L, 1);
+    check_image(L, 1);
     luaL_checktype(L, 2, LUA_TSTRING);       /* a number is no file name */
     lua_settop(L, 3);
     *enc = LC_ENCODE_SRGB;
@@ -41,13 +45,13 @@ static lc_image *save_args(lua_State *L, lc_encoding *enc)
         lf_open(L, 3, known);
         *enc = (lc_encoding)lf_option(L, 3, "encoding", encoding_opts, 0);
     }
-    return img;
 }
 
-static int save_work(lua_State *L, const lc_image *img, lc_encoding enc, int plain)
+/* Saves the image at 1 to the path at 2. */
+static int save_work(lua_State *L, lc_encoding enc, int plain)
 {
     lc_error err;
-    if (lc_image_save(img, lua_tostring(L, 2), enc, &err))
+    if (lc_image_save(check_image(L, 1), lua_tostring(L, 2), enc, &err))
         return hook_fail(L, plain, 2, err.msg);     /* names 'save' and the path */
     lua_settop(L, 1);
     return 1;
@@ -57,17 +61,17 @@ static int save_work(lua_State *L, const lc_image *img, lc_encoding enc, int pla
 static int save_plain(lua_State *L)
 {
     lc_encoding enc;
-    lc_image *img = save_args(L, &enc);
-    return save_work(L, img, enc, 1);
+    save_args(L, &enc);
+    return save_work(L, enc, 1);
 }
 
 /* img:save(path [, {encoding = 'srgb'}]): the image, written by rename. */
 static int w_image_save(lua_State *L)
 {
     lc_encoding enc;
-    lc_image *img = save_args(L, &enc);
+    save_args(L, &enc);
     int n = hook_call(L, "save", save_plain, 3);
-    return n >= 0 ? n : save_work(L, img, enc, 0);
+    return n >= 0 ? n : save_work(L, enc, 0);
 }
 
 static int w_load_png(lua_State *L)
@@ -86,6 +90,7 @@ static int w_load_png(lua_State *L)
     ui->img = lc_image_load_png(lua_tostring(L, 1), enc, &err);
     if (!ui->img)
         return luaL_argerror(L, 1, err.msg);
+    lancer_charge(L);
     return 1;
 }
 
@@ -205,6 +210,7 @@ static int w_image(lua_State *L)
         for (int y = 0; y < h; y++)
             for (int x = 0; x < w; x++)
                 lc_image_set(ui->img, x, y, c);
+    lancer_charge(L);
     return 1;
 }
 

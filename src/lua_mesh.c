@@ -13,6 +13,8 @@
 
 #define CHUNK 1024    /* items converted per call into the core */
 
+/* The core mesh of the userdata at idx, raising when freed: fetched right
+** before the lc_ call that uses it (see scene_at in lua_types.h). */
 static lc_mesh *check_mesh(lua_State *L, int idx)
 {
     ud_mesh *u = luaL_checkudata(L, idx, MESH);
@@ -40,10 +42,12 @@ static lua_Integer list_count(lua_State *L, int arg, int list, const char *field
     return *flat ? n / 3 : n;
 }
 
-/* Reads a list of points into the mesh: nested {{x, y, z}, ...} or flat
-** {x, y, z, x, y, z, ...} (the fast path for large arrays). `field` names
-** it in errors; arg is the argument holding the list's table, or the list. */
-static void read_points(lua_State *L, int arg, int list, lc_mesh *m, int normals,
+/* Reads a list of points into the mesh at stack index mi: nested {{x, y,
+** z}, ...} or flat {x, y, z, x, y, z, ...} (the fast path for large
+** arrays). `field` names it in errors; arg is the argument holding the
+** list's table, or the list. The list's reads may run a script's
+** metamethods: the mesh is fetched again for each chunk. */
+static void read_points(lua_State *L, int arg, int list, int mi, int normals,
                         const char *field)
 {
     double buf[3 * CHUNK];
@@ -51,6 +55,7 @@ static void read_points(lua_State *L, int arg, int list, lc_mesh *m, int normals
     lc_error err;
     int flat;
     list = lua_absindex(L, list);
+    mi = lua_absindex(L, mi);
     lua_Integer count = list_count(L, arg, list, field, "points", &flat);
     for (lua_Integer i = 1; i <= count; i++) {
         if (flat) {
@@ -77,6 +82,7 @@ static void read_points(lua_State *L, int arg, int list, lc_mesh *m, int normals
             buf[3 * nb + 2] = v.z;
         }
         if (++nb == CHUNK || i == count) {
+            lc_mesh *m = check_mesh(L, mi);
             lc_status st = normals ? lc_mesh_add_normals(m, buf, nb, &err)
                                    : lc_mesh_add_vertices(m, buf, nb, &err);
             if (st)
@@ -101,17 +107,20 @@ static uint32_t face_index(lua_State *L, int arg, const char *field, lua_Integer
     return (uint32_t)(k - 1);
 }
 
-/* Faces: nested {{a, b, c}, {a, b, c, d}, ...} (polygons become fans) or flat
-** {a, b, c, a, b, c, ...}; indices start at 1, as Lua's do. */
-static void read_faces(lua_State *L, int arg, int list, lc_mesh *m, const char *field)
+/* Faces into the mesh at stack index mi: nested {{a, b, c}, {a, b, c, d},
+** ...} (polygons become fans) or flat {a, b, c, a, b, c, ...}; indices
+** start at 1, as Lua's do. The mesh is fetched for each chunk, as in
+** read_points. */
+static void read_faces(lua_State *L, int arg, int list, int mi, const char *field)
 {
     uint32_t buf[3 * CHUNK];
     size_t nb = 0;
     lc_error err;
-    size_t nv = lc_mesh_vertex_count(m);
     int flat;
     list = lua_absindex(L, list);
+    mi = lua_absindex(L, mi);
     lua_Integer count = list_count(L, arg, list, field, "faces", &flat);
+    size_t nv = lc_mesh_vertex_count(check_mesh(L, mi));
     for (lua_Integer i = 1; i <= count; i++) {
         if (flat) {
             for (int k = 0; k < 3; k++) {
@@ -140,7 +149,7 @@ static void read_faces(lua_State *L, int arg, int list, lc_mesh *m, const char *
                 buf[3 * nb + 2] = cur;
                 prev = cur;
                 if (++nb == CHUNK) {
-                    if (lc_mesh_add_faces(m, buf, nb, &err))
+                    if (lc_mesh_add_faces(check_mesh(L, mi), buf, nb, &err))
                         lf_error(L, arg, field, "%s", err.msg);
                     nb = 0;
                 }
@@ -149,12 +158,12 @@ static void read_faces(lua_State *L, int arg, int list, lc_mesh *m, const char *
             continue;
         }
         if (nb == CHUNK) {
-            if (lc_mesh_add_faces(m, buf, nb, &err))
+            if (lc_mesh_add_faces(check_mesh(L, mi), buf, nb, &err))
                 lf_error(L, arg, field, "%s", err.msg);
             nb = 0;
         }
     }
-    if (nb && lc_mesh_add_faces(m, buf, nb, &err))
+    if (nb && lc_mesh_add_faces(check_mesh(L, mi), buf, nb, &err))
         lf_error(L, arg, field, "%s", err.msg);
 }
 
@@ -185,17 +194,18 @@ static int w_mesh(lua_State *L)
     lf_open(L, 1, known);
     lf_udata(L, 1, "material", MATERIAL, 0);
     int mat = lua_gettop(L);
-    lc_mesh *m = push_mesh(L, mat);
+    push_mesh(L, mat);
     int top = lua_gettop(L);
     if (lua_getfield(L, 1, "vertices") != LUA_TNIL)
-        read_points(L, 1, -1, m, 0, "vertices");
+        read_points(L, 1, -1, top, 0, "vertices");
     lua_settop(L, top);
     if (lua_getfield(L, 1, "normals") != LUA_TNIL)
-        read_points(L, 1, -1, m, 1, "normals");
+        read_points(L, 1, -1, top, 1, "normals");
     lua_settop(L, top);
     if (lua_getfield(L, 1, "faces") != LUA_TNIL)
-        read_faces(L, 1, -1, m, "faces");
+        read_faces(L, 1, -1, top, "faces");
     lua_settop(L, top);
+    lancer_charge(L);
     return 1;
 }
 
@@ -244,29 +254,33 @@ static int w_load_obj(lua_State *L)
     u->m = lc_mesh_load_obj(path, &err);
     if (!u->m)
         return luaL_argerror(L, 1, err.msg);     /* names 'load_obj', the file, the line */
+    lancer_charge(L);
     return 1;
 }
 
 static int w_mesh_add_vertices(lua_State *L)
 {
-    lc_mesh *m = check_mesh(L, 1);
-    read_points(L, 2, 2, m, 0, "vertices");
-    lua_pushinteger(L, (lua_Integer)lc_mesh_vertex_count(m));
+    check_mesh(L, 1);
+    read_points(L, 2, 2, 1, 0, "vertices");
+    lua_pushinteger(L, (lua_Integer)lc_mesh_vertex_count(check_mesh(L, 1)));
+    lancer_charge(L);
     return 1;
 }
 
 static int w_mesh_add_normals(lua_State *L)
 {
-    lc_mesh *m = check_mesh(L, 1);
-    read_points(L, 2, 2, m, 1, "normals");
+    check_mesh(L, 1);
+    read_points(L, 2, 2, 1, 1, "normals");
+    lancer_charge(L);
     return 0;
 }
 
 static int w_mesh_add_faces(lua_State *L)
 {
-    lc_mesh *m = check_mesh(L, 1);
-    read_faces(L, 2, 2, m, "faces");
-    lua_pushinteger(L, (lua_Integer)lc_mesh_face_count(m));
+    check_mesh(L, 1);
+    read_faces(L, 2, 2, 1, "faces");
+    lua_pushinteger(L, (lua_Integer)lc_mesh_face_count(check_mesh(L, 1)));
+    lancer_charge(L);
     return 1;
 }
 

@@ -107,11 +107,13 @@ void render_read_options(lua_State *L, int arg, lc_render_options *o)
 }
 
 /* Checks render's arguments: the scene at 1, the options at 2 (a table
-** afterwards); the options in *o and whether to draw progress in *show. */
-static ud_scene *render_args(lua_State *L, lc_render_options *o, int *show, int plain)
+** afterwards); the options in *o and whether to draw progress in *show.
+** Reading the options may run a script's metamethods: render_work checks
+** the scene again. */
+static void render_args(lua_State *L, lc_render_options *o, int *show, int plain)
 {
     static const char *const known[] = {RENDER_OPTIONS, "progress", NULL};
-    ud_scene *u = scene_check(L, 1);
+    scene_check(L, 1);
     lua_settop(L, 2);
     if (lua_isnil(L, 2)) {
         lua_newtable(L);
@@ -123,13 +125,12 @@ static ud_scene *render_args(lua_State *L, lc_render_options *o, int *show, int 
     lc_error err;
     if (lc_render_options_check(o, &err))
         hook_raise(L, plain, 2, &err);
-    return u;
 }
 
-/* Renders: pushes the image and the statistics. */
-static int render_work(lua_State *L, ud_scene *u, lc_render_options *o, int show,
-                       int plain)
+/* Renders the scene at 1: pushes the image and the statistics. */
+static int render_work(lua_State *L, lc_render_options *o, int show, int plain)
 {
+    ud_scene *u = scene_check(L, 1);
     ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
     ui->img = NULL;
     luaL_setmetatable(L, IMAGE);
@@ -140,7 +141,8 @@ static int render_work(lua_State *L, ud_scene *u, lc_render_options *o, int show
     o->progress = progress_bar_update;
     o->progress_ud = &bar;
     double lua_seconds = clock_seconds() - u->mark;
-    ui->img = lc_scene_render(u->s, o, &st, &err);
+    /* Fetched after the allocations above, which may run finalizers. */
+    ui->img = lc_scene_render(scene_at(L, 1), o, &st, &err);
     u->mark = clock_seconds();
     progress_bar_end(&bar);
     if (!ui->img) {
@@ -149,6 +151,7 @@ static int render_work(lua_State *L, ud_scene *u, lc_render_options *o, int show
                              "scene.camera = lancer.camera{...})");
         return hook_raise(L, plain, 2, &err);
     }
+    lancer_charge(L);
     push_stats(L, &st, lua_seconds);
     return 2;
 }
@@ -158,8 +161,8 @@ static int render_plain(lua_State *L)
 {
     lc_render_options o;
     int show;
-    ud_scene *u = render_args(L, &o, &show, 1);
-    return render_work(L, u, &o, show, 1);
+    render_args(L, &o, &show, 1);
+    return render_work(L, &o, show, 1);
 }
 
 /* scene:render{width = , height = , samples = , ...}: img, stats. The
@@ -169,10 +172,10 @@ static int w_scene_render(lua_State *L)
 {
     lc_render_options o;
     int show;
-    ud_scene *u = render_args(L, &o, &show, 0);
+    render_args(L, &o, &show, 0);
     int n = hook_call(L, "render", render_plain, 2);
     if (n < 0)
-        n = render_work(L, u, &o, show, 0);
+        n = render_work(L, &o, show, 0);
     if (n >= 2 && lua_type(L, -n + 1) == LUA_TTABLE) {
         if (lua_getfield(L, -n + 1, "warning") == LUA_TSTRING) {
             fprintf(stderr, "lancer: warning: %s\n", lua_tostring(L, -1));

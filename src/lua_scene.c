@@ -19,8 +19,12 @@ ud_scene *scene_check(lua_State *L, int idx)
     return u;
 }
 
-static void set_camera(lua_State *L, ud_scene *u, int sidx, int cidx, int arg,
-                       const char *field)
+lc_scene *scene_at(lua_State *L, int idx)
+{
+    return scene_check(L, idx)->s;
+}
+
+static void set_camera(lua_State *L, int sidx, int cidx, int arg, const char *field)
 {
     ud_camera *c = luaL_testudata(L, cidx, CAMERA);
     if (!c) {
@@ -32,7 +36,7 @@ static void set_camera(lua_State *L, ud_scene *u, int sidx, int cidx, int arg,
         luaL_error(L, "scene.camera: lancer.Camera expected, got %s", got);
     }
     lc_error err;
-    if (lc_scene_set_camera(u->s, &c->c, &err))
+    if (lc_scene_set_camera(scene_at(L, sidx), &c->c, &err))
         luaL_error(L, "%s", err.msg);
     lua_getiuservalue(L, sidx, 1);
     lua_pushvalue(L, cidx);
@@ -76,7 +80,7 @@ static int w_scene(lua_State *L)
         return lf_raise(L, 1, &err);
     if (has_camera) {
         lua_getfield(L, 1, "camera");
-        set_camera(L, u, sidx, lua_gettop(L), 1, "camera");
+        set_camera(L, sidx, lua_gettop(L), 1, "camera");
         lua_pop(L, 1);
     }
     lua_settop(L, sidx);
@@ -91,8 +95,9 @@ static int w_scene_free(lua_State *L)              /* __gc and __close */
     return 0;
 }
 
-/* The core index of the material at stack index midx (nil: the default). */
-static int material_index(lua_State *L, ud_scene *u, int sidx, int midx, int arg)
+/* The core index, in the scene at sidx, of the material at stack index midx
+** (nil: the default). */
+static int material_index(lua_State *L, int sidx, int midx, int arg)
 {
     lc_error err;
     lua_getiuservalue(L, sidx, 1);
@@ -103,7 +108,7 @@ static int material_index(lua_State *L, ud_scene *u, int sidx, int midx, int arg
             index = (int)lua_tointeger(L, -1);
         } else {
             lc_material def = lc_material_default();
-            index = lc_scene_add_material(u->s, &def, &err);
+            index = lc_scene_add_material(scene_at(L, sidx), &def, &err);
             if (index < 0)
                 lf_raise(L, arg, &err);
             lua_pushinteger(L, index);
@@ -116,7 +121,7 @@ static int material_index(lua_State *L, ud_scene *u, int sidx, int midx, int arg
             index = (int)lua_tointeger(L, -1);
         } else {
             const ud_material *m = luaL_checkudata(L, midx, MATERIAL);
-            index = lc_scene_add_material(u->s, &m->m, &err);
+            index = lc_scene_add_material(scene_at(L, sidx), &m->m, &err);
             if (index < 0)
                 lf_raise(L, arg, &err);
             lua_pushvalue(L, midx);
@@ -128,14 +133,44 @@ static int material_index(lua_State *L, ud_scene *u, int sidx, int midx, int arg
     return index;
 }
 
-/* The group at idx moves its members by its transform after xf's (NULL:
-** none); fills *out and returns it. */
-static const lc_transform *group_xf(lua_State *L, int idx, const lc_transform *xf,
-                                    lc_transform *out)
+/* scene:add reads its arguments once, into a flat list (below), and
+** adds from that list: a list read again could answer differently (its
+** __index, or a finalizer changing it), and the metamethods it runs may
+** close the scene or a mesh, so the adding re-checks every pointer. */
+
+/* Lists and groups nest at most this deep in one scene:add: a list that
+** holds itself is refused instead of filling the C stack. */
+#define MAX_NESTING 64
+
+/* The flat list, a table at stack index `at` holding n values: runs of
+** objects (shape, light and mesh userdata) each after a marker: an integer
+** i, the objects come from argument i, not moved; false, not moved; a
+** transform (a plain userdata holding an lc_transform), moved by it. */
+typedef struct {
+    int         at;
+    lua_Integer n;
+    int         meshes;     /* how many of the objects are meshes */
+} flat_list;
+
+/* Appends the value at the top to the list, popping it. */
+static void flat_append(lua_State *L, flat_list *fl)
 {
-    const ud_group *g = lua_touserdata(L, idx);
-    *out = xf ? lc_transform_compose(xf, &g->t) : g->t;
-    return out;
+    lua_rawseti(L, fl->at, ++fl->n);
+}
+
+/* Appends the transform marker for xf (0: none). */
+static void flat_mark(lua_State *L, flat_list *fl, int xf)
+{
+    if (xf)
+        lua_pushvalue(L, xf);
+    else
+        lua_pushboolean(L, 0);
+    flat_append(L, fl);
+}
+
+static const lc_transform *xf_at(lua_State *L, int xf)
+{
+    return xf ? lua_touserdata(L, xf) : NULL;
 }
 
 static void element_error(lua_State *L, int arg, lua_Integer elem, const char *msg)
@@ -147,56 +182,69 @@ static void element_error(lua_State *L, int arg, lua_Integer elem, const char *m
     luaL_argerror(L, arg, lua_tostring(L, -1));
 }
 
-/* Raises unless the value at idx is a shape, a light, a group or an array
-** of them that can be moved by xf (NULL: not moved), so that a bad call to
-** add leaves the scene as it was. */
-static void check_addable(lua_State *L, int idx, int arg, int depth, lua_Integer elem,
-                          const lc_transform *xf)
+/* Checks that the value at idx is a shape, a light, a mesh, a group or an
+** array of them that can be moved by the transform at xf (0: not moved),
+** and appends what it holds to flat, so that a bad call to add leaves the
+** scene as it was. Arrays are read as a script reads them (# and [i]),
+** once; a group's members are its own copy, read raw. */
+static void flatten(lua_State *L, int idx, int arg, int depth, lua_Integer elem, int xf,
+                    flat_list *fl)
 {
     idx = lua_absindex(L, idx);
+    luaL_checkstack(L, 8, "scene:add: lists nested too deep");   /* 3 a level */
     lc_error err;
+    const lc_transform *t = xf_at(L, xf);
     ud_shape *sh = luaL_testudata(L, idx, SHAPE);
+    ud_light *li = sh ? NULL : luaL_testudata(L, idx, LIGHT);
+    ud_mesh *me = sh || li ? NULL : luaL_testudata(L, idx, MESH);
     if (sh) {
         lc_shape out;
-        if (xf && lc_shape_transform(&sh->s, xf, &out, &err))
+        if (t && lc_shape_transform(&sh->s, t, &out, &err))
             element_error(L, arg, elem, err.msg);
-        return;
-    }
-    ud_light *li = luaL_testudata(L, idx, LIGHT);
-    if (li) {
+    } else if (li) {
         lc_point_light l = li->l;
-        if (xf)
-            l.position = lc_transform_point(xf, l.position);
+        if (t)
+            l.position = lc_transform_point(t, l.position);
         if (lc_point_light_check(&l, &err))
             element_error(L, arg, elem, err.msg);
-        return;
-    }
-    ud_mesh *me = luaL_testudata(L, idx, MESH);
-    if (me) {
+    } else if (me) {
         if (!me->m)
             luaL_argerror(L, arg, "lancer.Mesh already freed");
-        if (xf && lc_transform_check(xf, &err))
+        if (t && lc_transform_check(t, &err))
             element_error(L, arg, elem, err.msg);
+    }
+    if (sh || li || me) {
+        fl->meshes += me != NULL;
+        lua_pushvalue(L, idx);
+        flat_append(L, fl);
         return;
     }
-    if (luaL_testudata(L, idx, GROUP) && depth < 64) {
-        lc_transform g;
-        xf = group_xf(L, idx, xf, &g);
+    int group = luaL_testudata(L, idx, GROUP) != NULL;
+    if ((group || lua_type(L, idx) == LUA_TTABLE) && depth >= MAX_NESTING)
+        element_error(L, arg, elem, "lists and groups nest at most 64 deep (does a "
+                      "list hold itself?)");
+    if (group) {
+        const ud_group *g = lua_touserdata(L, idx);
+        lc_transform *moved = lua_newuserdatauv(L, sizeof *moved, 0);
+        *moved = t ? lc_transform_compose(t, &g->t) : g->t;
+        int gxf = lua_gettop(L);
+        flat_mark(L, fl, gxf);
         lua_getiuservalue(L, idx, 1);
-        lua_Integer n = luaL_len(L, -1);
+        lua_Integer n = (lua_Integer)lua_rawlen(L, -1);
         for (lua_Integer i = 1; i <= n; i++) {
-            lua_geti(L, -1, i);
-            check_addable(L, -1, arg, depth + 1, elem ? elem : i, xf);
+            lua_rawgeti(L, -1, i);
+            flatten(L, -1, arg, depth + 1, elem ? elem : i, gxf, fl);
             lua_pop(L, 1);
         }
-        lua_pop(L, 1);
+        lua_pop(L, 2);
+        flat_mark(L, fl, xf);
         return;
     }
-    if (lua_type(L, idx) == LUA_TTABLE && depth < 64) {
+    if (lua_type(L, idx) == LUA_TTABLE) {
         lua_Integer n = luaL_len(L, idx);
         for (lua_Integer i = 1; i <= n; i++) {
             lua_geti(L, idx, i);
-            check_addable(L, -1, arg, depth + 1, i, xf);
+            flatten(L, -1, arg, depth + 1, i, xf, fl);
             lua_pop(L, 1);
         }
         return;
@@ -213,74 +261,105 @@ static void check_addable(lua_State *L, int idx, int arg, int depth, lua_Integer
     luaL_argerror(L, arg, lua_tostring(L, -1));
 }
 
-/* Adds the object at idx, already checked, moved by xf (NULL: as it is). */
-static void add_one(lua_State *L, ud_scene *u, int idx, int arg, const lc_transform *xf)
+/* The mesh userdata at idx, raising at arg when it was freed. */
+static lc_mesh *mesh_at(lua_State *L, int idx, int arg)
+{
+    lc_mesh *m = ((ud_mesh *)lua_touserdata(L, idx))->m;
+    if (!m)
+        luaL_argerror(L, arg, "lancer.Mesh already freed");
+    return m;
+}
+
+/* Adds the object at idx (checked by flatten) to the scene at 1, moved by
+** the transform at xf (0: as it is). */
+static void add_one(lua_State *L, int idx, int arg, int xf)
 {
     lc_error err;
-    idx = lua_absindex(L, idx);
+    const lc_transform *t = xf_at(L, xf);
     ud_shape *sh = luaL_testudata(L, idx, SHAPE);
     if (sh) {
         lc_shape moved = sh->s;
-        if (xf && lc_shape_transform(&sh->s, xf, &moved, &err))
+        if (t && lc_shape_transform(&sh->s, t, &moved, &err))
             lf_raise(L, arg, &err);
         lua_getiuservalue(L, idx, 1);
-        int mat = material_index(L, u, 1, lua_gettop(L), arg);
+        int mat = material_index(L, 1, lua_gettop(L), arg);
         lua_pop(L, 1);
-        if (lc_scene_add_shape(u->s, &moved, mat, &err) < 0)
+        if (lc_scene_add_shape(scene_at(L, 1), &moved, mat, &err) < 0)
             lf_raise(L, arg, &err);
-        return;
-    }
-    ud_mesh *me = luaL_testudata(L, idx, MESH);
-    if (me) {
-        lua_getiuservalue(L, idx, 1);
-        int mat = material_index(L, u, 1, lua_gettop(L), arg);
-        lua_pop(L, 1);
-        if ((xf ? lc_scene_add_mesh_moved(u->s, me->m, xf, mat, &err)
-                : lc_scene_add_mesh(u->s, me->m, mat, &err)) < 0)
-            lf_raise(L, arg, &err);
-        lua_getiuservalue(L, 1, 1);             /* so scene:objects() can name it */
-        lua_rawgeti(L, -1, SC_MESHES);
-        lua_pushlightuserdata(L, me->m);
-        lua_pushvalue(L, idx);
-        lua_rawset(L, -3);
-        lua_pop(L, 2);
         return;
     }
     ud_light *li = luaL_testudata(L, idx, LIGHT);
     if (li) {
         lc_point_light l = li->l;
-        if (xf)
-            l.position = lc_transform_point(xf, l.position);
-        if (lc_scene_add_light(u->s, &l, &err) < 0)
+        if (t)
+            l.position = lc_transform_point(t, l.position);
+        if (lc_scene_add_light(scene_at(L, 1), &l, &err) < 0)
             lf_raise(L, arg, &err);
         return;
     }
-    lc_transform g;
-    if (luaL_testudata(L, idx, GROUP)) {
-        xf = group_xf(L, idx, xf, &g);
-        lua_getiuservalue(L, idx, 1);
-        idx = lua_gettop(L);
-    }
-    lua_Integer n = luaL_len(L, idx);
-    for (lua_Integer i = 1; i <= n; i++) {
-        lua_geti(L, idx, i);
-        add_one(L, u, -1, arg, xf);
-        lua_pop(L, 1);
-    }
+    lua_getiuservalue(L, idx, 1);                  /* a mesh */
+    int mat = material_index(L, 1, lua_gettop(L), arg);
+    lua_pop(L, 1);
+    lua_getiuservalue(L, 1, 1);                    /* so scene:objects() can name it */
+    lua_rawgeti(L, -1, SC_MESHES);
+    lc_scene *s = scene_at(L, 1);
+    lc_mesh *m = mesh_at(L, idx, arg);
+    if ((t ? lc_scene_add_mesh_moved(s, m, t, mat, &err)
+           : lc_scene_add_mesh(s, m, mat, &err)) < 0)
+        lf_raise(L, arg, &err);
+    lua_pushlightuserdata(L, m);
+    lua_pushvalue(L, idx);
+    lua_rawset(L, -3);
+    lua_pop(L, 2);
 }
 
 static int w_scene_add(lua_State *L)
 {
-    ud_scene *u = scene_check(L, 1);
+    scene_check(L, 1);
     int n = lua_gettop(L);
     if (n < 2)
         return luaL_argerror(L, 2, "shape, mesh, light, group or array of them expected, "
                              "got no value");
-    for (int i = 2; i <= n; i++)
-        check_addable(L, i, i, 0, 0, NULL);
-    for (int i = 2; i <= n; i++)
-        add_one(L, u, i, i, NULL);
+    lua_newtable(L);
+    int flat = n + 1;
+    flat_list fl = {flat, 0, 0};
+    for (int i = 2; i <= n; i++) {
+        lua_pushinteger(L, i);
+        flat_append(L, &fl);
+        flatten(L, i, i, 0, 0, 0, &fl);
+    }
+    /* What the reading ran may have closed a mesh or the scene: check
+    ** them all before adding anything. */
+    lua_Integer len = fl.n;
+    int arg = 2;
+    for (lua_Integer k = 1; fl.meshes && k <= len; k++) {
+        if (lua_rawgeti(L, flat, k) == LUA_TNUMBER)
+            arg = (int)lua_tointeger(L, -1);
+        else if (luaL_testudata(L, -1, MESH))
+            mesh_at(L, -1, arg);
+        lua_pop(L, 1);
+    }
+    scene_check(L, 1);
+    lua_pushnil(L);                                /* flat + 1: the transform */
+    int xf = 0;
+    for (lua_Integer k = 1; k <= len; k++) {
+        int type = lua_rawgeti(L, flat, k);        /* flat + 2 */
+        if (type == LUA_TNUMBER) {
+            arg = (int)lua_tointeger(L, -1);
+            xf = 0;
+        } else if (type == LUA_TBOOLEAN) {
+            xf = 0;
+        } else if (lua_getmetatable(L, -1)) {      /* a shape, light or mesh */
+            lua_pop(L, 1);
+            add_one(L, flat + 2, arg, xf);
+        } else {                                   /* a transform marker */
+            lua_copy(L, -1, flat + 1);
+            xf = flat + 1;
+        }
+        lua_settop(L, flat + 1);
+    }
     lua_settop(L, 1);
+    lancer_charge(L);
     return 1;
 }
 
@@ -288,7 +367,7 @@ static int w_scene_add(lua_State *L)
 ** sharing this scene's material table (same indices) with a moved camera. */
 static int w_scene_transformed(lua_State *L)
 {
-    ud_scene *u = scene_check(L, 1);
+    scene_check(L, 1);
     double scale = luaL_checknumber(L, 2);
     lc_vec3 off = {0, 0, 0};
     char why[160];
@@ -310,7 +389,9 @@ static int w_scene_transformed(lua_State *L)
     lua_pop(L, 1);
     lua_setiuservalue(L, ci, 1);
     lc_error err;
-    c->s = lc_scene_transformed(u->s, scale, off, &err);
+    /* The offset's reads and the allocations above may have run Lua code
+    ** (metamethods, finalizers) that closed the scene: fetch it now. */
+    c->s = lc_scene_transformed(scene_at(L, 1), scale, off, &err);
     if (!c->s)
         return lf_raise(L, 2, &err);
     lc_camera moved;
@@ -324,14 +405,15 @@ static int w_scene_transformed(lua_State *L)
         lua_pop(L, 1);
     }
     lua_settop(L, ci);
+    lancer_charge(L);
     return 1;
 }
 
 static int w_scene_count(lua_State *L)
 {
-    ud_scene *u = scene_check(L, 1);
-    lua_pushinteger(L, (lua_Integer)lc_scene_shape_count(u->s));
-    lua_pushinteger(L, (lua_Integer)lc_scene_light_count(u->s));
+    const lc_scene *s = scene_at(L, 1);
+    lua_pushinteger(L, (lua_Integer)lc_scene_shape_count(s));
+    lua_pushinteger(L, (lua_Integer)lc_scene_light_count(s));
     return 2;
 }
 static int w_scene_tostring(lua_State *L)
@@ -373,32 +455,40 @@ static int w_scene_index(lua_State *L)
 
 static int w_scene_newindex(lua_State *L)
 {
-    ud_scene *u = scene_check(L, 1);
+    scene_check(L, 1);
     const char *k = luaL_checkstring(L, 2);
-    lc_settings st = lc_scene_settings(u->s);
     char why[200];
+    lc_color c = {0, 0, 0};
+    lua_Integer d = 0;
     if (strcmp(k, "camera") == 0) {
-        set_camera(L, u, 1, 3, 0, k);
+        set_camera(L, 1, 3, 0, k);
         return 0;
     } else if (strcmp(k, "background") == 0 || strcmp(k, "ambient") == 0) {
-        lc_color c;
         if (!lf_to_color(L, 3, &c, why, sizeof why))
             return luaL_error(L, "scene.%s: %s", k, why);
-        *(k[0] == 'b' ? &st.background : &st.ambient) = c;
     } else if (strcmp(k, "max_depth") == 0) {
         int isint;
-        lua_Integer d = lua_tointegerx(L, 3, &isint);
+        d = lua_tointegerx(L, 3, &isint);
         /* Whether it converts to an int; the range is the core's to check. */
         if (lua_type(L, 3) != LUA_TNUMBER || !isint || d < INT_MIN || d > INT_MAX)
             return luaL_error(L, "scene.max_depth: integer in [0, %d] expected, got %s",
                               LC_MAX_DEPTH, luaL_tolstring(L, 3, NULL));
-        st.max_depth = (int)d;
     } else {
         return luaL_error(L, "scene.%s: unknown field; settable fields are camera, "
                           "background, ambient, max_depth", k);
     }
+    /* Reading the colour may have run a script's metamethods, which may
+    ** have closed the scene or changed its settings: read them now. */
+    lc_scene *s = ((ud_scene *)lua_touserdata(L, 1))->s;
+    if (!s)
+        return luaL_error(L, "scene.%s: lancer.Scene already freed", k);
+    lc_settings st = lc_scene_settings(s);
+    if (k[0] == 'm')
+        st.max_depth = (int)d;
+    else
+        *(k[0] == 'b' ? &st.background : &st.ambient) = c;
     lc_error err;
-    if (lc_scene_configure(u->s, &st, &err))
+    if (lc_scene_configure(s, &st, &err))
         return luaL_error(L, "scene.%s: %s", k, err.msg);
     return 0;
 }

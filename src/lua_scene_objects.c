@@ -71,10 +71,9 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
 ** Ids count from 1 (the core's from 0), and stay with their object. */
 static int w_scene_objects(lua_State *L)
 {
-    lc_scene *s = scene_check(L, 1)->s;
-    size_t n = lc_scene_object_count(s);
+    size_t n = lc_scene_object_count(scene_at(L, 1));
     lc_object *objs = lua_newuserdatauv(L, (n + 1) * sizeof *objs, 0);  /* Lua frees it */
-    lc_scene_objects(s, objs, n);
+    n = lc_scene_objects(scene_at(L, 1), objs, n);   /* after it: it may run Lua */
     push_materials(L, 1);
     int mats = lua_gettop(L);
     lua_getiuservalue(L, 1, 1);
@@ -107,11 +106,11 @@ static int matches(lua_State *L, int idx, const lc_object *o)
 ** light or mesh that was added, when it was added once. */
 static int w_scene_remove(lua_State *L)
 {
-    lc_scene *s = scene_check(L, 1)->s;
+    scene_check(L, 1);
     lc_error err;
     int id = -1;
     if (lua_type(L, 2) == LUA_TTABLE) {
-        lua_getfield(L, 2, "id");
+        lua_getfield(L, 2, "id");                  /* may run a script's __index */
         if (!lua_isinteger(L, -1))
             return luaL_argerror(L, 2, "an entry of scene:objects() (with an integer id) "
                                  "expected");
@@ -127,9 +126,10 @@ static int w_scene_remove(lua_State *L)
             return luaL_argerror(L, 2, lua_pushfstring(L, "no object %I in this scene", i));
     } else if (luaL_testudata(L, 2, SHAPE) || luaL_testudata(L, 2, LIGHT) ||
                luaL_testudata(L, 2, MESH)) {
-        size_t n = lc_scene_object_count(s);
+        const char *what = luaL_tolstring(L, 2, NULL);   /* may run a __tostring */
+        size_t n = lc_scene_object_count(scene_at(L, 1));
         lc_object *objs = lua_newuserdatauv(L, (n + 1) * sizeof *objs, 0);
-        lc_scene_objects(s, objs, n);
+        n = lc_scene_objects(scene_at(L, 1), objs, n);
         int found = 0, other = -1;
         for (size_t i = 0; i < n; i++)
             if (matches(L, 2, &objs[i])) {
@@ -139,7 +139,6 @@ static int w_scene_remove(lua_State *L)
                     other = objs[i].id;
                 found++;
             }
-        const char *what = luaL_tolstring(L, 2, NULL);
         if (found == 0)
             return luaL_argerror(L, 2, lua_pushfstring(L, "%s is not in this scene", what));
         if (found > 1)
@@ -152,7 +151,7 @@ static int w_scene_remove(lua_State *L)
                                                    "light or mesh expected, got %s",
                                                    luaL_typename(L, 2)));
     }
-    if (lc_scene_remove(s, id, &err))
+    if (lc_scene_remove(scene_at(L, 1), id, &err))
         return luaL_argerror(L, 2, lua_pushfstring(L, "no object %d in this scene (%s)",
                                                    id + 1, strstr(err.msg, "removed") ?
                                                    "it was removed" : "never added"));

@@ -45,6 +45,12 @@ enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4 };
 void lancer_class(lua_State *L, const char *name, const luaL_Reg *meta,
                   const luaL_Reg *methods);
 
+/* lua_lancer.c: tells Lua's collector how much the core's memory grew since
+** the last call (images, meshes, scenes): called after each lc_ call that
+** makes or grows one. It may run finalizers: call it last, with no core
+** pointer in use after it. */
+void lancer_charge(lua_State *L);
+
 /* Each file registers its metatables and sets its constructors in the module
 ** table at the top of the stack. */
 void objects_register(lua_State *L);   /* lua_objects.c: materials, lights, cameras */
@@ -60,6 +66,13 @@ void hook_register(lua_State *L);      /* lua_hook.c: set_host_hook */
 
 /* lua_scene.c: the scene userdata at idx, raising when it is not one or is freed. */
 ud_scene *scene_check(lua_State *L, int idx);
+/* The core scene of the userdata at idx, raising as scene_check does. Any
+** call that can run Lua code may close a scene, mesh or image: a metamethod
+** (lua_getfield, lua_geti, luaL_len, luaL_tolstring on a script's value) or
+** a finalizer, which the collector may run at any allocation. So a binding
+** fetches a core pointer after the last such call, right before the lc_
+** call that uses it, and never keeps one across such a call. */
+lc_scene *scene_at(lua_State *L, int idx);
 
 /* lua_render.c: the options render and explain share, from the named-field
 ** table at arg (checked by the caller's lf_open against RENDER_OPTIONS). */

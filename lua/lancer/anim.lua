@@ -222,6 +222,13 @@ local function render_frame(a, f)
   return img, st
 end
 
+-- Frees a frame's image once it is saved and logged: nothing else holds
+-- it, and its pixels (25 MB at 1080p) need not wait for the collector.
+local function free(img)
+  local mt = getmetatable(img)
+  if type(mt) == "table" and mt.__close then mt.__close(img) end
+end
+
 local function is_interrupt(msg)
   msg = tostring(msg)
   return msg:find("interrupted!", 1, true) or msg:find("render cancelled", 1, true)
@@ -301,6 +308,7 @@ function M.animate(spec)
         log("frame %d: %dx%d, %d spp, %.3f s, %d rays -> %s", n, img.width, img.height,
             st.rays.camera // (img.width * img.height), st.seconds + (st.lua_seconds or 0),
             total_rays(st), f.output)
+        free(img)
       elseif is_interrupt(img) then
         M.busy = false
         error(img, 0)

@@ -6,7 +6,66 @@ local KINDS = {"camera", "shadow", "reflection", "glossy", "light", "cut"}
 local EFFECTS = {"shadow", "emitter", "area", "specular", "reflect", "glossy", "ambient",
                  "lens"}
 
+-- The fields format reads: integers, numbers, tables (nil allowed for the
+-- optional ones, which older statistics lack).
+local INTEGERS = {"threads", "prim_tests", "node_tests", "primitives", "bvh_nodes",
+                  "degenerate", "self_hits"}
+local NUMBERS = {"seconds", "compile_seconds", "trace_seconds"}
+local OPTIONAL = {{"lua_seconds", "number"}, {"samples", "integer"},
+                  {"converged", "integer"}, {"why", "table"}}
+
+local function got(v)
+  if v == nil then return "no value" end
+  if math.type(v) == "float" then return tostring(v) end
+  return type(v)
+end
+
+-- What is wrong with st[k] (`name` in the message), wanted a `want`; nil
+-- when nothing is.
+local function problem(v, name, want)
+  local ok = want == "table" and type(v) == "table" or
+             want == "number" and type(v) == "number" or
+             want == "integer" and math.tointeger(v) ~= nil
+  if not ok then
+    return ("field '%s': %s expected, got %s"):format(name, want, got(v))
+  end
+end
+
+-- Raises at format's caller unless st is the statistics table of a render.
+local function check(st, label)
+  local function bad(why) error("bad argument #1 to 'ledger' (" .. why .. ")", 4) end
+  if type(st) ~= "table" then
+    bad("statistics table of a render expected, got " .. got(st))
+  end
+  if label ~= nil and type(label) ~= "string" then
+    error(("bad argument #2 to 'ledger' (string expected, got %s)"):format(
+      type(label)), 3)
+  end
+  for _, k in ipairs(INTEGERS) do
+    local why = problem(st[k], k, "integer")
+    if why then bad(why) end
+  end
+  for _, k in ipairs(NUMBERS) do
+    local why = problem(st[k], k, "number")
+    if why then bad(why) end
+  end
+  for _, f in ipairs(OPTIONAL) do
+    local why = st[f[1]] ~= nil and problem(st[f[1]], f[1], f[2])
+    if why then bad(why) end
+  end
+  for _, k in ipairs{"rays", "effects"} do
+    local why = problem(st[k], k, "table")
+    if why then bad(why) end
+  end
+  for _, k in ipairs(KINDS) do
+    local why = st.rays[k] ~= nil and problem(st.rays[k], "rays." .. k, "integer")
+    if why then bad(why) end
+  end
+end
+
+-- lancer.ledger(stats [, label]): the statistics of a render as lines of text.
 function M.format(st, label)
+  check(st, label)
   local out = {}
   local function add(fmt, ...) out[#out + 1] = fmt:format(...) end
   local total = 0

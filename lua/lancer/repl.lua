@@ -33,6 +33,15 @@ end
 
 -- show(img): the image in the terminal, fitted to its width and height.
 function M.show(img)
+  local mt = getmetatable(img)
+  if type(mt) ~= "table" or mt.__name ~= "lancer.Image" then
+    local name = type(mt) == "table" and type(mt.__name) == "string" and mt.__name or
+                 (img == nil and "no value" or type(img))
+    error(("bad argument #1 to 'show' (lancer.Image expected, got %s)"):format(name), 2)
+  end
+  if tostring(img) == "lancer.Image (freed)" then
+    error("bad argument #1 to 'show' (lancer.Image already freed)", 2)
+  end
   local why = no_preview()
   if why then print("no preview: " .. why) else draw(img) end
 end
