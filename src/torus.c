@@ -217,7 +217,7 @@ int torus_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit 
         return 0;
     n = v3_mul(n, 1 / len);
     p = v3_madd(c, n, g->k0);
-    lc_vec3 perr = v3_mul(v3_add(v3_abs(p), v3(1, 1, 1)), vec_gamma(8));
+    lc_vec3 perr = v3_mul(v3_add(v3_abs(p), v3(1, 1, 1)), vec_gamma(32));
     placed_finish(g, &pr, s, p, perr, n, h);
     return 1;
 }
