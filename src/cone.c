@@ -5,6 +5,8 @@
 #include "shape.h"
 #include "validate.h"
 
+#define KIND_NAME "cone"
+
 lc_status cone_check(const lc_shape *s, lc_error *err)
 {
     if (validate_vec(s->p, "base", err) || validate_edge(s->u, "axis", err))
@@ -22,7 +24,7 @@ lc_status cone_check(const lc_shape *s, lc_error *err)
     double big = fmax(r[0], r[1]);
     if (validate_length(big, r[0] >= r[1] ? names[0] : names[1], err))
         return LC_EARG;
-    return placed_check_xf(s, err);
+    return placed_check_xf(s, KIND_NAME, err);
 }
 
 /* The canonical cone (larger radius 1) scaled by the larger radius across,
@@ -193,12 +195,12 @@ int cone_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint32
     lc_vec3 q, ta, tb;
     if (pick < as) {
         side(g, fmin(pick / as, BELOW_ONE), u[1], &q, &ta, &tb);
-        return placed_light_sample(g, q, ta, tb, as / total, p, S, out);
+        return placed_light_sample(g, cone_t, q, ta, tb, as / total, p, S, out);
     }
     if (pick < as + ab) {
         cap(0, g->k0, fmin((pick - as) / ab, BELOW_ONE), u[1], &q, &ta, &tb);
-        return placed_light_sample(g, q, ta, tb, ab / total, p, S, out);
+        return placed_light_sample(g, cone_t, q, ta, tb, ab / total, p, S, out);
     }
     cap(1, g->k1, fmin((pick - as - ab) / at, BELOW_ONE), u[1], &q, &ta, &tb);
-    return placed_light_sample(g, q, ta, tb, at / total, p, S, out);
+    return placed_light_sample(g, cone_t, q, ta, tb, at / total, p, S, out);
 }

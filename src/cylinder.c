@@ -4,12 +4,14 @@
 #include "shape.h"
 #include "validate.h"
 
+#define KIND_NAME "cylinder"
+
 lc_status cylinder_check(const lc_shape *s, lc_error *err)
 {
     if (validate_vec(s->p, "base", err) || validate_edge(s->u, "axis", err) ||
         validate_length(s->radius, "radius", err))
         return LC_EARG;
-    return placed_check_xf(s, err);
+    return placed_check_xf(s, KIND_NAME, err);
 }
 
 /* The unit cylinder scaled by the radius across, by the axis along. */
@@ -160,10 +162,10 @@ int cylinder_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], ui
     lc_vec3 q, ta, tb;
     if (u[0] < ps) {
         side(g, fmin(u[0] / ps, BELOW_ONE), u[1], &q, &ta, &tb);
-        return placed_light_sample(g, q, ta, tb, ps, p, S, out);
+        return placed_light_sample(g, cylinder_t, q, ta, tb, ps, p, S, out);
     }
     double w = fmin((u[0] - ps) / (1 - ps), BELOW_ONE);
     int top = w >= 0.5;
     cap(top ? 1 : 0, fmin(2 * (top ? w - 0.5 : w), BELOW_ONE), u[1], &q, &ta, &tb);
-    return placed_light_sample(g, q, ta, tb, (1 - ps) / 2, p, S, out);
+    return placed_light_sample(g, cylinder_t, q, ta, tb, (1 - ps) / 2, p, S, out);
 }

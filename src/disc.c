@@ -3,6 +3,8 @@
 #include "shape.h"
 #include "validate.h"
 
+#define KIND_NAME "disc"
+
 lc_status disc_check(const lc_shape *s, lc_error *err)
 {
     if (validate_vec(s->p, "center", err) || validate_nonzero(s->u, "normal", err) ||
@@ -14,7 +16,7 @@ lc_status disc_check(const lc_shape *s, lc_error *err)
     if (!(s->radius2 < s->radius))
         return error_fail(err, LC_EARG, "inner_radius", "must be less than the radius "
                           "(%g), got %g", s->radius, s->radius2);
-    return placed_check_xf(s, err);
+    return placed_check_xf(s, KIND_NAME, err);
 }
 
 /* The unit disc scaled by the radius, its normal along the shape's. */
@@ -96,5 +98,5 @@ int disc_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint32
 {
     lc_vec3 q, ta, tb;
     patch(g, u[0], u[1], &q, &ta, &tb);
-    return placed_light_sample(g, q, ta, tb, 1, p, S, out);
+    return placed_light_sample(g, disc_t, q, ta, tb, 1, p, S, out);
 }

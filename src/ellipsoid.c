@@ -4,12 +4,14 @@
 #include "shape.h"
 #include "validate.h"
 
+#define KIND_NAME "ellipsoid"
+
 lc_status ellipsoid_check(const lc_shape *s, lc_error *err)
 {
     if (validate_vec(s->p, "center", err) || validate_length(s->u.x, "radii", err) ||
         validate_length(s->u.y, "radii", err) || validate_length(s->u.z, "radii", err))
         return LC_EARG;
-    return placed_check_xf(s, err);
+    return placed_check_xf(s, KIND_NAME, err);
 }
 
 /* The unit sphere scaled by the radii along the axes, at the centre. */
@@ -87,5 +89,5 @@ int ellipsoid_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], u
 {
     lc_vec3 q, ta, tb;
     patch(g, u[0], u[1], &q, &ta, &tb);
-    return placed_light_sample(g, q, ta, tb, 1, p, S, out);
+    return placed_light_sample(g, ellipsoid_t, q, ta, tb, 1, p, S, out);
 }

@@ -78,10 +78,30 @@ void placed_bounds_axial(const placed_geom *g, double rho0, double rho1, double 
     bvh_bounds_grow(lo, hi, v3_add(b, e));
 }
 
-lc_status placed_check_xf(const lc_shape *s, lc_error *err)
+/* A moved shape must stay inside the coordinate range once placed: its
+** centre through xf, plus its size through the largest row of M, within
+** LC_MAX_COORD; its size through the cube root of |det M| (the mean scale)
+** at least LC_MIN_LENGTH. */
+lc_status placed_check_xf(const lc_shape *s, const char *kind, lc_error *err)
 {
-    if (s->moved && lc_transform_check(&s->xf, err))
+    if (!s->moved)
+        return LC_OK;
+    if (lc_transform_check(&s->xf, err))
         return LC_EARG;
+    const double (*m)[4] = s->xf.m;
+    double size = v3_max_abs(s->u) + s->radius + s->radius2, row = 0;
+    for (int i = 0; i < 3; i++)
+        row = fmax(row, fabs(m[i][0]) + fabs(m[i][1]) + fabs(m[i][2]));
+    lc_vec3 c = lc_transform_point(&s->xf, s->p);
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                 m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                 m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    if (!(v3_max_abs(c) + row * size <= LC_MAX_COORD))
+        return error_fail(err, LC_EARG, "transform", "the moved %s reaches past +-%g "
+                          "(lancer's coordinate range)", kind, LC_MAX_COORD);
+    if (!(cbrt(fabs(det)) * size >= LC_MIN_LENGTH))
+        return error_fail(err, LC_EARG, "transform", "the moved %s is smaller than %g "
+                          "(lancer's coordinate range)", kind, LC_MIN_LENGTH);
     return LC_OK;
 }
 
@@ -140,8 +160,9 @@ double placed_patch_area(const placed_geom *g,
 ** point over the unit parameter square; weight the probability of the
 ** part it was drawn from): the solid angle it stands for is that times
 ** |n_l . l| / d^2. */
-int placed_light_sample(const placed_geom *g, lc_vec3 p, lc_vec3 ta, lc_vec3 tb,
-                        double weight, lc_vec3 from, uint32_t S, light_sample *out)
+int placed_light_sample(const placed_geom *g, placed_t_fn visible, lc_vec3 p, lc_vec3 ta,
+                        lc_vec3 tb, double weight, lc_vec3 from, uint32_t S,
+                        light_sample *out)
 {
     lc_vec3 q = lc_transform_point(&g->x.xf, p);
     lc_vec3 nl = v3_cross(through(g, ta), through(g, tb));
@@ -151,6 +172,16 @@ int placed_light_sample(const placed_geom *g, lc_vec3 p, lc_vec3 ta, lc_vec3 tb,
     if (!(dist > 0) || !(area > 0))
         return 0;
     out->l = v3_mul(tq, 1 / dist);
+    /* Shadow rays toward a light skip the light itself (its own rounding
+    ** must not hide the point sampled on it): so the shape's own hiding of
+    ** the point (its back, a torus's other side, an open cylinder's far
+    ** wall) is decided here. The point is seen when the shape's first
+    ** surface along the ray lies where the point is, within 1e-6 of the
+    ** distance (a part that hides it lies farther off than that). */
+    ray toward = {from, out->l};
+    double first = visible(g, &toward, 0, HUGE_VAL);
+    if (!(first > 0) || first < dist * (1 - 1e-6))
+        return 0;
     out->k = area * fabs(v3_dot(nl, out->l)) / v3_len(nl) / (PI * d2 * S);
     out->dist = dist;
     return 1;

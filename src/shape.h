@@ -276,7 +276,7 @@ void      placed_bounds_axial(const placed_geom *g, double rho0, double rho1, do
 /* A frame (b1, b2, axis) around a unit axis, for to_shape. */
 void      placed_frame(lc_vec3 axis, lc_vec3 *b1, lc_vec3 *b2);
 /* The shared checks: a moved shape's xf, an axis, a positive length. */
-lc_status placed_check_xf(const lc_shape *s, lc_error *err);
+lc_status placed_check_xf(const lc_shape *s, const char *kind, lc_error *err);
 lc_status placed_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
                            lc_error *err);
 void      placed_scale(lc_shape *s, double k, lc_vec3 offset, int scales_u);
@@ -288,9 +288,13 @@ double    placed_patch_area(const placed_geom *g,
 
 /* One sample of a placed light: a canonical point p with tangents ta, tb
 ** (their cross product's length the canonical area element for the
-** sample's share of the parameter square), turned into a light sample. */
-int       placed_light_sample(const placed_geom *g, lc_vec3 p, lc_vec3 ta, lc_vec3 tb,
-                              double weight, lc_vec3 from, uint32_t S, light_sample *out);
+** sample's share of the parameter square), turned into a light sample, 0
+** when the shape itself hides it from `from` (`visible`: the kind's own
+** distance test). */
+typedef double (*placed_t_fn)(const placed_geom *g, const ray *r, double tmin, double tmax);
+int       placed_light_sample(const placed_geom *g, placed_t_fn visible, lc_vec3 p,
+                              lc_vec3 ta, lc_vec3 tb, double weight, lc_vec3 from,
+                              uint32_t S, light_sample *out);
 
 /* disc.c: the unit disc in z = 0, holed to k0 (inner / outer radius). */
 lc_status disc_check(const lc_shape *s, lc_error *err);

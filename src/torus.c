@@ -5,6 +5,8 @@
 #include "shape.h"
 #include "validate.h"
 
+#define KIND_NAME "torus"
+
 lc_status torus_check(const lc_shape *s, lc_error *err)
 {
     if (validate_vec(s->p, "center", err) || validate_nonzero(s->u, "axis", err) ||
@@ -13,7 +15,7 @@ lc_status torus_check(const lc_shape *s, lc_error *err)
     if (!(s->radius2 < s->radius))
         return error_fail(err, LC_EARG, "minor", "must be less than major (%g), got %g",
                           s->radius, s->radius2);
-    return placed_check_xf(s, err);
+    return placed_check_xf(s, KIND_NAME, err);
 }
 
 /* The canonical torus scaled by the major radius, its axis the shape's. */
@@ -234,5 +236,5 @@ int torus_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint3
 {
     lc_vec3 q, ta, tb;
     patch(g, u[0], u[1], &q, &ta, &tb);
-    return placed_light_sample(g, q, ta, tb, 1, p, S, out);
+    return placed_light_sample(g, torus_t, q, ta, tb, 1, p, S, out);
 }

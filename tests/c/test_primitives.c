@@ -177,15 +177,20 @@ static lc_vec3 unit_random(void)
     return v3(r * cos(phi), r * sin(phi), z);
 }
 
+static lc_vec3 unit_random(void);
+
 /* A point of the shape's surface: one sampled as the light sampler draws
-** them (so every part, caps and all). */
+** them (so every part, caps and all), seen from far off in a random
+** direction (the sampler gives only what that viewpoint sees). */
 static lc_vec3 surface_point(lc_shape_kind k, const placed_geom *g)
 {
-    light_sample ls;
-    double u[2] = {uniform(), uniform()};
-    lc_vec3 far = lc_transform_point(&g->x.xf, v3(0, 0, 100));
-    int ok = shape_light_sample(k, g, NULL, far, u, 1, &ls);
-    return ok ? v3_madd(far, ls.l, ls.dist) : lc_transform_point(&g->x.xf, v3(0, 0, 0));
+    for (;;) {
+        light_sample ls;
+        double u[2] = {uniform(), uniform()};
+        lc_vec3 far = lc_transform_point(&g->x.xf, v3_mul(unit_random(), 100));
+        if (shape_light_sample(k, g, NULL, far, u, 1, &ls))
+            return v3_madd(far, ls.l, ls.dist);
+    }
 }
 
 /* The shapes at scale s, moved by (T, T/2, T/3), some sheared. */
