@@ -252,3 +252,24 @@ int box_light_sample(const box_geom *g, const box_light *bl, lc_vec3 p,
     out->dist = dist;
     return 1;
 }
+
+/* ---- texture coordinates ----------------------------------------------------------- */
+
+/* On the face across edge a, the box's own coordinates along the other two
+** edges in turn (a + 1, a + 2), each 0..1. */
+void box_uv(const box_geom *g, lc_vec3 p, double uv[2])
+{
+    lc_vec3 pq = v3_sub(p, g->q);
+    double c[3], off = HUGE_VAL;
+    int face = 0;
+    for (int a = 0; a < 3; a++) {
+        c[a] = v3_dot(g->row[a], pq);
+        double d = fmin(fabs(c[a]), fabs(c[a] - 1));   /* how far from its faces */
+        if (d < off) {
+            off = d;
+            face = a;
+        }
+    }
+    uv[0] = c[(face + 1) % 3];
+    uv[1] = c[(face + 2) % 3];
+}

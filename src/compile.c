@@ -245,14 +245,12 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     return LC_OK;
 }
 
-lc_status compile_scene(lc_scene *s, const lc_render_options *o, sig_atomic_t seen,
-                        lc_error *err)
+lc_status compile_geometry(lc_scene *s, sig_atomic_t seen, lc_error *err)
 {
     compiled *c = &s->c;
     size_t faces = 0;
     for (size_t i = 0; i < s->nmeshes; i++)
         faces += s->meshes[i].mesh->nf;
-    double t0 = clock_seconds();
     if (!c->valid || c->faces_seen != faces) {     /* geometry changed since */
         compile_free(c);
         lc_status st = list_triangles(s, seen, err);
@@ -265,6 +263,18 @@ lc_status compile_scene(lc_scene *s, const lc_render_options *o, sig_atomic_t se
         c->valid = 1;
         c->faces_seen = faces;
     }
+    error_ok(err);
+    return LC_OK;
+}
+
+lc_status compile_scene(lc_scene *s, const lc_render_options *o, sig_atomic_t seen,
+                        lc_error *err)
+{
+    double t0 = clock_seconds();
+    lc_status st = compile_geometry(s, seen, err);
+    if (st != LC_OK)
+        return st;
+    compiled *c = &s->c;
     if (decide_needs(s, o, err)) {
         compile_free(c);
         return LC_ENOMEM;

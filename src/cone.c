@@ -204,3 +204,22 @@ int cone_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint32
     cap(1, g->k1, fmin((pick - as - ab) / at, BELOW_ONE), u[1], &q, &ta, &tb);
     return placed_light_sample(g, cone_t, q, ta, tb, at / total, p, S, out);
 }
+
+/* ---- texture coordinates ----------------------------------------------------------- */
+
+/* u: the turn around the axis; v: the height from the base over the
+** length on the side, the radius over the cap's on the caps. */
+void cone_uv(const placed_geom *g, lc_vec3 p, double uv[2])
+{
+    lc_vec3 c = placed_canonical(g, p);
+    uv[0] = placed_turn(c.x, c.y);
+    uv[1] = c.z;
+    if (g->shape.caps) {
+        double rho = hypot(c.x, c.y), cap = fmin(fabs(c.z), fabs(c.z - 1));
+        double side = fabs(rho - (g->k0 + (g->k1 - g->k0) * c.z));
+        if (cap < side) {
+            double r = c.z > 0.5 ? g->k1 : g->k0;
+            uv[1] = r > 0 ? rho / r : 0;
+        }
+    }
+}

@@ -169,3 +169,20 @@ int cylinder_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], ui
     cap(top ? 1 : 0, fmin(2 * (top ? w - 0.5 : w), BELOW_ONE), u[1], &q, &ta, &tb);
     return placed_light_sample(g, cylinder_t, q, ta, tb, (1 - ps) / 2, p, S, out);
 }
+
+/* ---- texture coordinates ----------------------------------------------------------- */
+
+/* u: the turn around the axis; v: the height from the base over the
+** length on the side, the radius over the cap's on the caps. */
+void cylinder_uv(const placed_geom *g, lc_vec3 p, double uv[2])
+{
+    lc_vec3 c = placed_canonical(g, p);
+    uv[0] = placed_turn(c.x, c.y);
+    uv[1] = c.z;
+    if (g->shape.caps) {
+        double rho = hypot(c.x, c.y), cap = fmin(fabs(c.z), fabs(c.z - 1));
+        double side = fabs(rho - 1);
+        if (cap < side)
+            uv[1] = rho;
+    }
+}

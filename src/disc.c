@@ -100,3 +100,13 @@ int disc_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint32
     patch(g, u[0], u[1], &q, &ta, &tb);
     return placed_light_sample(g, disc_t, q, ta, tb, 1, p, S, out);
 }
+
+/* ---- texture coordinates ----------------------------------------------------------- */
+
+/* u: the turn around the centre, v: the radius over the outer radius. */
+void disc_uv(const placed_geom *g, lc_vec3 p, double uv[2])
+{
+    lc_vec3 c = placed_canonical(g, p);
+    uv[0] = placed_turn(c.x, c.y);
+    uv[1] = hypot(c.x, c.y);
+}

@@ -91,3 +91,11 @@ int ellipsoid_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], u
     patch(g, u[0], u[1], &q, &ta, &tb);
     return placed_light_sample(g, ellipsoid_t, q, ta, tb, 1, p, S, out);
 }
+
+/* ---- texture coordinates ----------------------------------------------------------- */
+
+/* The sphere's longitude and latitude, on the unit sphere it is placed from. */
+void ellipsoid_uv(const placed_geom *g, lc_vec3 p, double uv[2])
+{
+    sphere_uv_of_direction(v3_norm(placed_canonical(g, p)), uv);
+}

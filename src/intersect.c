@@ -141,6 +141,31 @@ static void shading_normal(const lc_scene *s, hit *h)
         h->n = v3_neg(h->n);
 }
 
+void intersect_uv(const lc_scene *s, const hit *h, double uv[2])
+{
+    unsigned kind = PRIM_KIND(h->shape);
+    if (kind != PRIM_TRIANGLE) {
+        lc_shape_kind k = shape_kind_of_prim(kind);
+        shape_uv(k, shape_at(&s->shapes[k], PRIM_INDEX(h->shape)), h->p, uv);
+        return;
+    }
+    /* A face: its mesh's uvs interpolated, or without them the barycentric
+    ** weights of its second and third corners. */
+    const tri_ref *tr = &s->c.tris[PRIM_INDEX(h->shape)];
+    const lc_mesh *m = s->meshes[tr->mesh].mesh;
+    if (!m->uv) {
+        uv[0] = h->bary[1];
+        uv[1] = h->bary[2];
+        return;
+    }
+    const uint32_t *f = m->f + 3 * (size_t)tr->face;
+    uv[0] = uv[1] = 0;
+    for (int k = 0; k < 3; k++) {
+        uv[0] += h->bary[k] * m->uv[2 * (size_t)f[k]];
+        uv[1] += h->bary[k] * m->uv[2 * (size_t)f[k] + 1];
+    }
+}
+
 /* The closest-hit search's state, which the leaf test updates. */
 typedef struct {
     const lc_scene *s;

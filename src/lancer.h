@@ -148,11 +148,15 @@ lc_mesh  *lc_mesh_new(lc_error *err);
 void      lc_mesh_free(lc_mesh *m);                     /* NULL is a no-op */
 lc_status lc_mesh_add_vertices(lc_mesh *m, const double *xyz, size_t n, lc_error *err);
 lc_status lc_mesh_add_normals(lc_mesh *m, const double *xyz, size_t n, lc_error *err);
+/* Texture coordinates, 2 per vertex (as many as vertices, or none). */
+lc_status lc_mesh_add_uvs(lc_mesh *m, const double *uv, size_t n, lc_error *err);
 lc_status lc_mesh_add_faces(lc_mesh *m, const uint32_t *abc, size_t n, lc_error *err);
 size_t    lc_mesh_vertex_count(const lc_mesh *m);
 size_t    lc_mesh_face_count(const lc_mesh *m);
-/* Reads v, vn and f statements (negative indices; polygons become fans);
-** other statements are skipped; errors name the file and the line. */
+/* Reads v, vt, vn and f statements (negative indices; polygons become
+** fans; a vertex split where its corners carry other vt or vn; uvs and
+** normals kept when every corner has one); other statements are skipped;
+** errors name the file and the line. */
 lc_mesh  *lc_mesh_load_obj(const char *path, lc_error *err);
 
 /* ---- Lights and camera ----------------------------------------------------- */
@@ -382,6 +386,41 @@ typedef struct {
 lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y,
                            int sample, lc_ray_record **records, size_t *n,
                            lc_error *err);
+
+/* ---- Casting rays ------------------------------------------------------------
+** The scene's exact geometry alone, for scripts (drop objects on a terrain,
+** scatter along a surface) and embedders: no shading, no lights. A ray is
+** o + t d for tmin < t < tmax; d need not be unit, and t is in units of
+** |d| (as in Embree). tmin > 0 starts the ray at o + tmin d. */
+typedef struct {
+    lc_vec3 origin, direction;
+    double  tmin, tmax;           /* 0 <= tmin < tmax; tmax may be HUGE_VAL */
+} lc_ray;
+
+typedef struct {
+    int      hit;                 /* 0: nothing on the ray, the rest unset */
+    double   t;                   /* the hit is origin + t direction */
+    lc_vec3  point;               /* on the surface, exactly as shading sees it */
+    lc_vec3  normal;              /* unit geometric normal, outward for solids */
+    lc_vec3  shading_normal;      /* interpolated on meshes with normals */
+    double   uv[2];               /* texture coordinates (docs/manual.md) */
+    int      object;              /* what lc_scene_add_* returned for it */
+    int      shape_kind;          /* LC_SPHERE ..., or LC_SHAPE_KINDS for a mesh face */
+    long     primitive;           /* a mesh face's index in its mesh; 0 for shapes */
+    int      material;            /* index of its material in the scene, 0-based */
+} lc_ray_hit;
+
+/* The nearest hit of each of n rays into hits[0, n). Every ray is checked
+** first (finite origin within the coordinate range, a non-zero finite
+** direction, 0 <= tmin < tmax): a bad one fails the call naming it, with
+** nothing traced. Stops with LC_ECANCEL on lc_interrupt. One thread; takes
+** the scene's lock, as a render does. */
+lc_status lc_scene_intersect(lc_scene *s, const lc_ray *rays, size_t n, lc_ray_hit *hits,
+                             lc_error *err);
+/* Whether anything lies on each ray: blocked[i] = 1 or 0. Faster than
+** lc_scene_intersect: the first hit found ends the search. */
+lc_status lc_scene_occluded(lc_scene *s, const lc_ray *rays, size_t n,
+                            unsigned char *blocked, lc_error *err);
 
 /* ---- Images ---------------------------------------------------------------- */
 

@@ -24,10 +24,10 @@ static lc_mesh *check_mesh(lua_State *L, int idx)
 }
 
 /* How many items the list at index `list` holds: a nested list {{...}, ...}
-** counts its entries, a flat one {a, b, c, ...} its entries over 3 (*flat
-** says which). `what` names the items in the error for a non-table. */
+** counts its entries, a flat one {a, b, c, ...} its entries over dim
+** (*flat says which). `what` names the items in the error for a non-table. */
 static lua_Integer list_count(lua_State *L, int arg, int list, const char *field,
-                              const char *what, int *flat)
+                              const char *what, int dim, int *flat)
 {
     if (lua_type(L, list) != LUA_TTABLE)
         lf_error(L, arg, field, "table of %s expected, got %s", what,
@@ -36,55 +36,85 @@ static lua_Integer list_count(lua_State *L, int arg, int list, const char *field
     *flat = n > 0 && lua_geti(L, list, 1) == LUA_TNUMBER;
     if (n > 0)
         lua_pop(L, 1);
-    if (*flat && n % 3 != 0)
-        lf_error(L, arg, field, "flat list length must be a multiple of 3, got %lld",
+    if (*flat && n % dim != 0)
+        lf_error(L, arg, field, "flat list length must be a multiple of %d, got %lld", dim,
                  (long long)n);
-    return *flat ? n / 3 : n;
+    return *flat ? n / dim : n;
 }
 
-/* Reads a list of points into the mesh at stack index mi: nested {{x, y,
-** z}, ...} or flat {x, y, z, x, y, z, ...} (the fast path for large
-** arrays). `field` names it in errors; arg is the argument holding the
-** list's table, or the list. The list's reads may run a script's
-** metamethods: the mesh is fetched again for each chunk. */
-static void read_points(lua_State *L, int arg, int list, int mi, int normals,
+enum { POINTS, NORMALS, UVS };                /* what read_points reads */
+
+/* One nested uv pair {u, v} at idx into uv; 0 with why on failure. */
+static int to_uv(lua_State *L, int idx, double uv[2], char *why, size_t whylen)
+{
+    if (lua_type(L, idx) != LUA_TTABLE) {
+        snprintf(why, whylen, "{u, v} expected, got %s", luaL_typename(L, idx));
+        return 0;
+    }
+    for (int k = 0; k < 2; k++) {
+        int t = lua_geti(L, idx, k + 1);
+        uv[k] = lua_tonumber(L, -1);
+        lua_pop(L, 1);
+        if (t != LUA_TNUMBER || !isfinite(uv[k])) {
+            snprintf(why, whylen, "{u, v} of 2 finite numbers expected");
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* Reads a list of points, normals or uvs (what) into the mesh at stack
+** index mi: nested {{x, y, z}, ...} or flat {x, y, z, x, y, z, ...} (the
+** fast path for large arrays; uvs come in 2s). `field` names it in
+** errors; arg is the argument holding the list's table, or the list. The
+** list's reads may run a script's metamethods: the mesh is fetched again
+** for each chunk. */
+static void read_points(lua_State *L, int arg, int list, int mi, int what,
                         const char *field)
 {
     double buf[3 * CHUNK];
+    int dim = what == UVS ? 2 : 3;
     size_t nb = 0;
     lc_error err;
     int flat;
     list = lua_absindex(L, list);
     mi = lua_absindex(L, mi);
-    lua_Integer count = list_count(L, arg, list, field, "points", &flat);
+    lua_Integer count = list_count(L, arg, list, field, what == UVS ? "uvs" : "points", dim,
+                                   &flat);
     for (lua_Integer i = 1; i <= count; i++) {
         if (flat) {
-            for (int k = 0; k < 3; k++) {
-                if (lua_geti(L, list, 3 * (i - 1) + k + 1) != LUA_TNUMBER)
+            for (int k = 0; k < dim; k++) {
+                lua_Integer at = dim * (i - 1) + k + 1;
+                if (lua_geti(L, list, at) != LUA_TNUMBER)
                     lf_error(L, arg, field, "entry %lld: number expected, got %s",
-                             (long long)(3 * (i - 1) + k + 1), luaL_typename(L, -1));
+                             (long long)at, luaL_typename(L, -1));
                 double x = lua_tonumber(L, -1);
                 lua_pop(L, 1);
                 if (!isfinite(x))
                     lf_error(L, arg, field, "entry %lld: must be finite, got %g",
-                             (long long)(3 * (i - 1) + k + 1), x);
-                buf[3 * nb + k] = x;
+                             (long long)at, x);
+                buf[dim * nb + k] = x;
             }
         } else {
             char why[160];
             lc_vec3 v;
             lua_geti(L, list, i);
-            if (!lf_to_vec3(L, -1, &v, why, sizeof why))
-                lf_error(L, arg, field, "point %lld: %s", (long long)i, why);
+            if (what == UVS ? !to_uv(L, -1, buf + 2 * nb, why, sizeof why)
+                            : !lf_to_vec3(L, -1, &v, why, sizeof why))
+                lf_error(L, arg, field, "%s %lld: %s", what == UVS ? "uv" : "point",
+                         (long long)i, why);
             lua_pop(L, 1);
-            buf[3 * nb] = v.x;
-            buf[3 * nb + 1] = v.y;
-            buf[3 * nb + 2] = v.z;
+            if (what != UVS) {
+                buf[3 * nb] = v.x;
+                buf[3 * nb + 1] = v.y;
+                buf[3 * nb + 2] = v.z;
+            }
         }
         if (++nb == CHUNK || i == count) {
             lc_mesh *m = check_mesh(L, mi);
-            lc_status st = normals ? lc_mesh_add_normals(m, buf, nb, &err)
-                                   : lc_mesh_add_vertices(m, buf, nb, &err);
+            lc_status st = what == NORMALS ? lc_mesh_add_normals(m, buf, nb, &err)
+                         : what == UVS     ? lc_mesh_add_uvs(m, buf, nb, &err)
+                                           : lc_mesh_add_vertices(m, buf, nb, &err);
             if (st)
                 lf_error(L, arg, field, "%s", err.msg);
             nb = 0;
@@ -119,7 +149,7 @@ static void read_faces(lua_State *L, int arg, int list, int mi, const char *fiel
     int flat;
     list = lua_absindex(L, list);
     mi = lua_absindex(L, mi);
-    lua_Integer count = list_count(L, arg, list, field, "faces", &flat);
+    lua_Integer count = list_count(L, arg, list, field, "faces", 3, &flat);
     size_t nv = lc_mesh_vertex_count(check_mesh(L, mi));
     for (lua_Integer i = 1; i <= count; i++) {
         if (flat) {
@@ -186,7 +216,8 @@ static lc_mesh *push_mesh(lua_State *L, int mat)
 
 static int w_mesh(lua_State *L)
 {
-    static const char *const known[] = {"vertices", "faces", "normals", "material", NULL};
+    static const char *const known[] = {"vertices", "faces", "normals", "uvs", "material",
+                                        NULL};
     if (lua_isnoneornil(L, 1)) {
         lua_settop(L, 0);
         lua_newtable(L);
@@ -197,10 +228,13 @@ static int w_mesh(lua_State *L)
     push_mesh(L, mat);
     int top = lua_gettop(L);
     if (lua_getfield(L, 1, "vertices") != LUA_TNIL)
-        read_points(L, 1, -1, top, 0, "vertices");
+        read_points(L, 1, -1, top, POINTS, "vertices");
     lua_settop(L, top);
     if (lua_getfield(L, 1, "normals") != LUA_TNIL)
-        read_points(L, 1, -1, top, 1, "normals");
+        read_points(L, 1, -1, top, NORMALS, "normals");
+    lua_settop(L, top);
+    if (lua_getfield(L, 1, "uvs") != LUA_TNIL)
+        read_points(L, 1, -1, top, UVS, "uvs");
     lua_settop(L, top);
     if (lua_getfield(L, 1, "faces") != LUA_TNIL)
         read_faces(L, 1, -1, top, "faces");
@@ -261,7 +295,7 @@ static int w_load_obj(lua_State *L)
 static int w_mesh_add_vertices(lua_State *L)
 {
     check_mesh(L, 1);
-    read_points(L, 2, 2, 1, 0, "vertices");
+    read_points(L, 2, 2, 1, POINTS, "vertices");
     lua_pushinteger(L, (lua_Integer)lc_mesh_vertex_count(check_mesh(L, 1)));
     lancer_charge(L);
     return 1;
@@ -270,7 +304,15 @@ static int w_mesh_add_vertices(lua_State *L)
 static int w_mesh_add_normals(lua_State *L)
 {
     check_mesh(L, 1);
-    read_points(L, 2, 2, 1, 1, "normals");
+    read_points(L, 2, 2, 1, NORMALS, "normals");
+    lancer_charge(L);
+    return 0;
+}
+
+static int w_mesh_add_uvs(lua_State *L)
+{
+    check_mesh(L, 1);
+    read_points(L, 2, 2, 1, UVS, "uvs");
     lancer_charge(L);
     return 0;
 }
@@ -327,7 +369,8 @@ void mesh_register(lua_State *L)
         {"__index", w_mesh_index}, {NULL, NULL}};
     static const luaL_Reg mesh_methods[] = {
         {"add_vertices", w_mesh_add_vertices}, {"add_faces", w_mesh_add_faces},
-        {"add_normals", w_mesh_add_normals}, {"moved", motion_moved}, {NULL, NULL}};
+        {"add_normals", w_mesh_add_normals},
+        {"add_uvs", w_mesh_add_uvs}, {"moved", motion_moved}, {NULL, NULL}};
     static const luaL_Reg funcs[] = {
         {"mesh", w_mesh}, {"triangle", w_triangle}, {"load_obj", w_load_obj},
         {NULL, NULL}};

@@ -33,6 +33,7 @@ void lc_mesh_free(lc_mesh *m)
         return;
     mem_free(m->v);
     mem_free(m->n);
+    mem_free(m->uv);
     mem_free(m->f);
     mem_free(m);
 }
@@ -90,6 +91,22 @@ lc_status lc_mesh_add_normals(lc_mesh *m, const double *xyz, size_t n, lc_error 
             return error_fail(err, LC_EARG, "normals", "normal %zu is zero-length",
                            m->nn + i + 1);
     return add_points(m, &m->n, &m->nn, &m->capn, xyz, n, "normals", err);
+}
+
+lc_status lc_mesh_add_uvs(lc_mesh *m, const double *uv, size_t n, lc_error *err)
+{
+    if (n == 0)
+        return error_ok(err), LC_OK;
+    for (size_t i = 0; i < 2 * n; i++)
+        if (!isfinite(uv[i]))
+            return error_fail(err, LC_EARG, "uvs", "uv %zu: component %zu must be finite, "
+                              "got %g", m->nuv + i / 2 + 1, i % 2 + 1, uv[i]);
+    if (!reserve((void **)&m->uv, &m->capuv, m->nuv, n, 2, sizeof *m->uv))
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory: mesh of %zu uvs", m->nuv + n);
+    memcpy(m->uv + 2 * m->nuv, uv, 2 * n * sizeof *uv);
+    m->nuv += n;
+    error_ok(err);
+    return LC_OK;
 }
 
 lc_status lc_mesh_add_faces(lc_mesh *m, const uint32_t *abc, size_t n, lc_error *err)

@@ -9,6 +9,8 @@ struct lc_mesh {
     size_t    nv, capv;
     double   *n;        /* 3 per vertex normal, or NULL */
     size_t    nn, capn;
+    double   *uv;       /* 2 per vertex texture coordinate, or NULL */
+    size_t    nuv, capuv;
     uint32_t *f;        /* 3 vertex indices per face, 0-based */
     size_t    nf, capf;
     int       refs;     /* owners: the creator plus each scene holding it */

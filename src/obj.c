@@ -1,4 +1,4 @@
-/* obj.c: reading Wavefront OBJ meshes (v, vn, f). */
+/* obj.c: reading Wavefront OBJ meshes (v, vt, vn, f). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -7,9 +7,10 @@
 #include "error.h"
 #include "mesh.h"
 #include "mem.h"
+#include "vec.h"
 
 typedef struct { double *a; size_t n, cap; } dbuf;      /* 3 per item */
-typedef struct { long *a; size_t n, cap; } lbuf;        /* 2 per corner: v, vn */
+typedef struct { long *a; size_t n, cap; } lbuf;        /* 3 per corner: v, vt, vn */
 
 static int dpush(dbuf *b, const double x[3])
 {
@@ -25,26 +26,26 @@ static int dpush(dbuf *b, const double x[3])
     return 1;
 }
 
-static int lpush(lbuf *b, long v, long vn)
+static int lpush(lbuf *b, const long c[3])
 {
     if (b->n == b->cap) {
         size_t nc = b->cap ? b->cap * 2 : 1024;
-        long *p = mem_realloc(b->a, nc * 2 * sizeof *p);
+        long *p = mem_realloc(b->a, nc * 3 * sizeof *p);
         if (!p)
             return 0;
         b->a = p;
         b->cap = nc;
     }
-    b->a[2 * b->n] = v;
-    b->a[2 * b->n + 1] = vn;
-    b->n++;
+    memcpy(b->a + 3 * b->n++, c, 3 * sizeof *c);
     return 1;
 }
 
-/* Reads 3 finite numbers after the keyword; extra ones (v's w) are allowed. */
-static int numbers(char *s, double x[3])
+/* Reads `count` finite numbers after the keyword; extra ones (v's w, vt's
+** w) are allowed. */
+static int numbers(char *s, double x[3], int count)
 {
-    for (int i = 0; i < 3; i++) {
+    x[2] = 0;
+    for (int i = 0; i < count; i++) {
         char *end;
         errno = 0;
         x[i] = strtod(s, &end);
@@ -106,81 +107,81 @@ static int read_line(FILE *fp, char **buf, size_t *cap)
     return LINE_OK;
 }
 
-/* Parses one corner "v", "v/t", "v//n" or "v/t/n". */
-static int corner(char *tok, size_t nv, size_t nn, long *v, long *n, const char **why)
+/* Parses one corner "v", "v/t", "v//n" or "v/t/n" into c: vertex, texture
+** coordinate and normal indices, 0-based (-1: not given). */
+static int corner(char *tok, const size_t count[3], long c[3], const char **why)
 {
-    char *end;
-    long i = strtol(tok, &end, 10);
-    if (end == tok) {
-        *why = "expected a vertex index";
-        return 0;
-    }
-    *v = resolve(i, nv);
-    *n = -1;
-    if (*v < 0) {
-        *why = "vertex index out of range";
-        return 0;
-    }
-    if (*end == '/') {
-        char *t = end + 1;
-        if (*t != '/') {                       /* texture index: checked, unused */
-            strtol(t, &end, 10);
-            if (end == t) {
-                *why = "bad texture index";
-                return 0;
-            }
-            t = end;
-        }
-        if (*t == '/') {
+    static const char *const bad[3] = {"expected a vertex index", "bad texture index",
+                                       "bad normal index"};
+    static const char *const range[3] = {"vertex index out of range",
+                                         "texture index out of range",
+                                         "normal index out of range"};
+    char *t = tok;
+    c[0] = c[1] = c[2] = -1;
+    for (int k = 0; k < 3; k++) {
+        if (k > 0) {
+            if (*t != '/')
+                break;
             t++;
-            long k = strtol(t, &end, 10);
-            if (end == t) {
-                *why = "bad normal index";
-                return 0;
-            }
-            *n = resolve(k, nn);
-            if (*n < 0) {
-                *why = "normal index out of range";
-                return 0;
-            }
+            if (*t == '/' || *t == '\0')          /* v//n: no texture index */
+                continue;
         }
+        char *end;
+        long i = strtol(t, &end, 10);
+        if (end == t) {
+            *why = bad[k];
+            return 0;
+        }
+        if ((c[k] = resolve(i, count[k])) < 0) {
+            *why = range[k];
+            return 0;
+        }
+        t = end;
     }
-    if (*end != '\0') {
+    if (*t != '\0') {
         *why = "unexpected characters in a face";
         return 0;
     }
     return 1;
 }
 
-/* Vertices that carry a normal are split per (v, vn) pair, found by hashing. */
-static lc_status with_normals(lc_mesh *m, const dbuf *v, const dbuf *vn, const lbuf *c,
-                              lc_error *err)
+/* Vertices that carry a texture coordinate or a normal are split per
+** (v, vt, vn) triplet, found by hashing; use[k] says which of vt and vn the
+** mesh keeps (those every corner has). */
+static lc_status with_attributes(lc_mesh *m, const dbuf *v, const dbuf *vt, const dbuf *vn,
+                                 const lbuf *c, const int use[3], lc_error *err)
 {
     size_t cap = 16;
     while (cap < 2 * c->n)
         cap *= 2;
-    long *key = mem_alloc(cap * 2 * sizeof *key);
+    long *key = mem_alloc(cap * 3 * sizeof *key);
     uint32_t *val = mem_alloc(cap * sizeof *val);
-    uint32_t *tri = mem_alloc(c->n * sizeof *tri);
+    uint32_t *tri = mem_alloc((c->n + 1) * sizeof *tri);
     lc_status st = LC_OK;
     if (!key || !val || !tri) {
         st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading a mesh");
         goto done;
     }
     for (size_t i = 0; i < cap; i++)
-        key[2 * i] = -1;
+        key[3 * i] = -1;
     for (size_t i = 0; i < c->n && st == LC_OK; i++) {
-        long a = c->a[2 * i], b = c->a[2 * i + 1];
-        size_t h = ((size_t)a * 2654435761u ^ (size_t)b * 40503u) & (cap - 1);
-        while (key[2 * h] >= 0 && (key[2 * h] != a || key[2 * h + 1] != b))
+        long a = c->a[3 * i], b = use[1] ? c->a[3 * i + 1] : -1;
+        long n = use[2] ? c->a[3 * i + 2] : -1;
+        size_t h = ((size_t)a * 2654435761u ^ (size_t)b * 40503u ^ (size_t)n * 97u) &
+                   (cap - 1);
+        while (key[3 * h] >= 0 &&
+               (key[3 * h] != a || key[3 * h + 1] != b || key[3 * h + 2] != n))
             h = (h + 1) & (cap - 1);
-        if (key[2 * h] < 0) {
-            key[2 * h] = a;
-            key[2 * h + 1] = b;
+        if (key[3 * h] < 0) {
+            key[3 * h] = a;
+            key[3 * h + 1] = b;
+            key[3 * h + 2] = n;
             val[h] = (uint32_t)m->nv;
             st = lc_mesh_add_vertices(m, v->a + 3 * a, 1, err);
-            if (st == LC_OK)
-                st = lc_mesh_add_normals(m, vn->a + 3 * b, 1, err);
+            if (st == LC_OK && use[1])
+                st = lc_mesh_add_uvs(m, vt->a + 3 * b, 1, err);
+            if (st == LC_OK && use[2])
+                st = lc_mesh_add_normals(m, vn->a + 3 * n, 1, err);
         }
         tri[i] = val[h];
     }
@@ -200,9 +201,9 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
         error_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
         return NULL;
     }
-    dbuf v = {0}, vn = {0};
-    lbuf c = {0};          /* triangle corners, 3 per triangle */
-    int all_normals = 1;
+    dbuf attr[3] = {{0}, {0}, {0}};     /* v, vt, vn */
+    lbuf c = {0};                       /* triangle corners, 3 per triangle */
+    int all[3] = {1, 1, 1};             /* every corner has a vt, a vn */
     char *line = NULL;
     size_t cap = 0, lineno = 0;
     lc_status st = LC_OK;
@@ -225,70 +226,82 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
         }
         char *s = line + strspn(line, " \t");
         s[strcspn(s, "\r\n#")] = '\0';
-        if (strncmp(s, "v ", 2) == 0 || strncmp(s, "v\t", 2) == 0 ||
-            strncmp(s, "vn ", 3) == 0 || strncmp(s, "vn\t", 3) == 0) {
-            int normal = s[1] == 'n';
+        int kind = -1;                  /* 0 v, 1 vt, 2 vn */
+        if (strncmp(s, "v ", 2) == 0 || strncmp(s, "v\t", 2) == 0)
+            kind = 0;
+        else if (strncmp(s, "vt ", 3) == 0 || strncmp(s, "vt\t", 3) == 0)
+            kind = 1;
+        else if (strncmp(s, "vn ", 3) == 0 || strncmp(s, "vn\t", 3) == 0)
+            kind = 2;
+        if (kind >= 0) {
+            static const char *const key[3] = {"v", "vt", "vn"};
             double x[3];
-            if (!numbers(s + (normal ? 2 : 1), x))
-                st = error_fail(err, LC_EARG, NULL, "%s:%zu: '%s' needs 3 finite numbers",
-                             path, lineno, normal ? "vn" : "v");
-            else if (!dpush(normal ? &vn : &v, x))
+            int need = kind == 1 ? 2 : 3;
+            if (!numbers(s + (kind ? 2 : 1), x, need))
+                st = error_fail(err, LC_EARG, NULL, "%s:%zu: '%s' needs %d finite numbers",
+                                path, lineno, key[kind], need);
+            else if (kind == 0 && !(v3_max_abs(v3(x[0], x[1], x[2])) <= LC_MAX_COORD))
+                st = error_fail(err, LC_EARG, NULL, "%s:%zu: 'v' must be within +-%g "
+                                "(lancer's coordinate range)", path, lineno, LC_MAX_COORD);
+            else if (!dpush(&attr[kind], x))
                 st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at line "
                                 "%zu", path, lineno);
         } else if (strncmp(s, "f ", 2) == 0 || strncmp(s, "f\t", 2) == 0) {
-            long first[2] = {0, 0}, prev[2] = {0, 0};
+            const size_t count[3] = {attr[0].n, attr[1].n, attr[2].n};
+            long first[3] = {0, 0, 0}, prev[3] = {0, 0, 0};
             int k = 0;
             char *save = NULL;
             for (char *tok = strtok_r(s + 1, " \t", &save); tok && st == LC_OK;
                  tok = strtok_r(NULL, " \t", &save), k++) {
-                long cur[2];
+                long cur[3];
                 const char *why = NULL;
-                if (!corner(tok, v.n, vn.n, &cur[0], &cur[1], &why)) {
-                    st = error_fail(err, LC_EARG, NULL, "%s:%zu: %s ('%s')", path, lineno, why,
-                                 tok);
+                if (!corner(tok, count, cur, &why)) {
+                    st = error_fail(err, LC_EARG, NULL, "%s:%zu: %s ('%s')", path, lineno,
+                                    why, tok);
                     break;
                 }
-                if (cur[1] < 0)
-                    all_normals = 0;
+                all[1] &= cur[1] >= 0;
+                all[2] &= cur[2] >= 0;
                 if (k == 0)
                     memcpy(first, cur, sizeof cur);
-                if (k >= 2 && (!lpush(&c, first[0], first[1]) || !lpush(&c, prev[0], prev[1]) ||
-                               !lpush(&c, cur[0], cur[1])))
+                if (k >= 2 && (!lpush(&c, first) || !lpush(&c, prev) || !lpush(&c, cur)))
                     st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at "
                                     "line %zu", path, lineno);
                 memcpy(prev, cur, sizeof cur);
             }
             if (st == LC_OK && k < 3)
-                st = error_fail(err, LC_EARG, NULL, "%s:%zu: a face needs at least 3 vertices, "
-                             "got %d", path, lineno, k);
+                st = error_fail(err, LC_EARG, NULL, "%s:%zu: a face needs at least 3 "
+                                "vertices, got %d", path, lineno, k);
         }
-        /* Anything else (vt, o, g, s, usemtl, mtllib, l, ...) is skipped. */
+        /* Anything else (o, g, s, usemtl, mtllib, l, ...) is skipped. */
     }
     mem_free(line);
-    if (st == LC_OK && (v.n == 0 || c.n == 0))
+    if (st == LC_OK && (attr[0].n == 0 || c.n == 0))
         st = error_fail(err, LC_EARG, "path", "'%s' has no %s: not an OBJ file, or an empty "
-                        "one", path, v.n == 0 ? "vertices ('v' lines)" : "faces ('f' lines)");
+                        "one", path, attr[0].n == 0 ? "vertices ('v' lines)" :
+                        "faces ('f' lines)");
     fclose(fp);
     if (st == LC_OK && (m = lc_mesh_new(err)) == NULL)
         st = LC_ENOMEM;
+    int use[3] = {1, all[1] && attr[1].n > 0, all[2] && attr[2].n > 0};
     if (st == LC_OK) {
-        if (all_normals && c.n > 0 && vn.n > 0) {
-            st = with_normals(m, &v, &vn, &c, err);
+        if (use[1] || use[2]) {
+            st = with_attributes(m, &attr[0], &attr[1], &attr[2], &c, use, err);
         } else {
             uint32_t *tri = mem_alloc((c.n + 1) * sizeof *tri);
             if (!tri)
                 st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
             for (size_t i = 0; st == LC_OK && i < c.n; i++)
-                tri[i] = (uint32_t)c.a[2 * i];
+                tri[i] = (uint32_t)c.a[3 * i];
             if (st == LC_OK)
-                st = lc_mesh_add_vertices(m, v.a, v.n, err);
+                st = lc_mesh_add_vertices(m, attr[0].a, attr[0].n, err);
             if (st == LC_OK)
                 st = lc_mesh_add_faces(m, tri, c.n / 3, err);
             mem_free(tri);
         }
     }
-    mem_free(v.a);
-    mem_free(vn.a);
+    for (int k = 0; k < 3; k++)
+        mem_free(attr[k].a);
     mem_free(c.a);
     if (st != LC_OK) {
         lc_mesh_free(m);

@@ -186,3 +186,15 @@ int placed_light_sample(const placed_geom *g, placed_t_fn visible, lc_vec3 p, lc
     out->dist = dist;
     return 1;
 }
+
+/* ---- texture coordinates ----------------------------------------------------------- */
+
+lc_vec3 placed_canonical(const placed_geom *g, lc_vec3 p)
+{
+    return lc_transform_point(&g->x.inv, p);
+}
+
+double placed_turn(double x, double y)
+{
+    return 0.5 + atan2(y, x) / (2 * PI);
+}

@@ -102,3 +102,21 @@ int plane_hit_inv(const plane_geom *g, const ray *r, const double *inv, double t
     return 1;
 }
 
+
+/* ---- texture coordinates ----------------------------------------------------------- */
+
+/* Distances in the plane from its point, along axes that read upright to
+** a camera facing it with y up: u horizontal (y x n), v = n x u; a floor
+** or ceiling (n mostly along y) takes u along x instead. A floor reads
+** u = x, v = -z from its point. */
+void plane_uv(const plane_geom *g, lc_vec3 p, double uv[2])
+{
+    lc_vec3 n = g->n, e1;
+    if (fabs(n.y) >= fabs(n.x) && fabs(n.y) >= fabs(n.z))
+        e1 = v3_norm(v3_madd(v3(1, 0, 0), n, -n.x));
+    else
+        e1 = v3_norm(v3_cross(v3(0, 1, 0), n));
+    lc_vec3 e2 = v3_cross(n, e1), d = v3_sub(p, g->p);
+    uv[0] = v3_dot(d, e1);
+    uv[1] = v3_dot(d, e2);
+}

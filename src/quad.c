@@ -119,3 +119,13 @@ int quad_light_sample(const quad_geom *g, const quad_light *ql, lc_vec3 p,
     out->dist = dist;
     return 1;
 }
+
+/* ---- texture coordinates ----------------------------------------------------------- */
+
+/* (alpha, beta): the corner is (0, 0), corner + u is (1, 0). */
+void quad_uv(const quad_geom *g, lc_vec3 p, double uv[2])
+{
+    lc_vec3 pq = v3_sub(p, g->q);
+    uv[0] = v3_dot(g->w, v3_cross(pq, g->v));
+    uv[1] = v3_dot(g->w, v3_cross(g->u, pq));
+}

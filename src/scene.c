@@ -183,6 +183,11 @@ static int add_mesh(lc_scene *s, lc_mesh *m, affine *xf, int material, lc_error 
         mem_free(xf);
         return -1;
     }
+    if (m->nuv != 0 && m->nuv != m->nv) {
+        error_fail(err, LC_EARG, "uvs", "mesh has %zu uvs for %zu vertices", m->nuv, m->nv);
+        mem_free(xf);
+        return -1;
+    }
     if (s->nmeshes >= PRIM_MAX || !GROW(s, meshes)) {
         error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
         mem_free(xf);
@@ -312,6 +317,8 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
         }
         if (st == LC_OK && src->nn)
             st = lc_mesh_add_normals(m, src->n, src->nn, err);
+        if (st == LC_OK && src->nuv)
+            st = lc_mesh_add_uvs(m, src->uv, src->nuv, err);
         if (st == LC_OK)
             st = lc_mesh_add_faces(m, src->f, src->nf, err);
         if (st == LC_OK && lc_scene_add_mesh(c, m, s->meshes[i].material, err) < 0)

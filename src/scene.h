@@ -89,6 +89,9 @@ enum {
 ** with LC_ECANCEL once interrupt_count() differs from interrupts_seen. */
 lc_status compile_scene(lc_scene *s, const lc_render_options *o,
                         sig_atomic_t interrupts_seen, lc_error *err);
+/* The triangles and the BVH only, rebuilt when the geometry changed: what
+** rays cast by the caller (query.c) need. */
+lc_status compile_geometry(lc_scene *s, sig_atomic_t interrupts_seen, lc_error *err);
 void      compile_free(compiled *c);
 int       compile_depth(const lc_scene *s, const lc_render_options *o);
 lc_mesh  *mesh_retain(lc_mesh *m);
@@ -114,6 +117,9 @@ int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
                     bvh_counts *counts);
 /* 1 if anything lies on the ray with 0 < t < tmax. counts may be NULL. */
 int intersect_occluded(const lc_scene *s, const ray *r, double tmax, bvh_counts *counts);
+/* The texture coordinates of a hit intersect_closest found: computed only
+** when asked (a scene without textures never pays for them). */
+void intersect_uv(const lc_scene *s, const hit *h, double uv[2]);
 /* The same, but primitive `skip` (a PRIM_ID, never a plane) is not there:
 ** a shadow ray toward a point sampled on an emitter cannot be blocked by
 ** that emitter, whatever the rounding of its own surface. */

@@ -5,7 +5,7 @@
 **   1. src/lancer.h: LC_DISC in lc_shape_kind (before LC_SHAPE_KINDS), and
 **      any lc_shape field it needs;
 **   2. src/disc.c: everything the kind does: disc_check, _prepare,
-**      _describe, _transform, _scale, _bounds, the hit (disc_t and disc_hit),
+**      _describe, _transform, _scale, _bounds, _uv, the hit (disc_t and disc_hit),
 **      and, if it can glow, _light_centre, _light_begin and _light_sample;
 **   3. src/shape.h: its disc_geom (and disc_light) and those prototypes, a
 **      PRIM_DISC id (before PRIM_KINDS: 4 bits hold 15 kinds) and,
@@ -169,6 +169,22 @@ void shape_bounds(lc_shape_kind k, const void *geom, float lo[3], float hi[3])
             hi[a] = HUGE_VALF;
         }
         break;
+    }
+}
+
+void shape_uv(lc_shape_kind k, const void *geom, lc_vec3 p, double uv[2])
+{
+    switch (k) {
+    case LC_SPHERE: sphere_uv(geom, p, uv); break;
+    case LC_QUAD: quad_uv(geom, p, uv); break;
+    case LC_BOX: box_uv(geom, p, uv); break;
+    case LC_PLANE: plane_uv(geom, p, uv); break;
+    case LC_DISC: disc_uv(geom, p, uv); break;
+    case LC_CYLINDER: cylinder_uv(geom, p, uv); break;
+    case LC_CONE: cone_uv(geom, p, uv); break;
+    case LC_TORUS: torus_uv(geom, p, uv); break;
+    case LC_ELLIPSOID: ellipsoid_uv(geom, p, uv); break;
+    default: uv[0] = uv[1] = 0; break;
     }
 }
 

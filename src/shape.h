@@ -92,6 +92,10 @@ void      sphere_bounds(const sphere_geom *g, float lo[3], float hi[3]);
 double    sphere_t(const sphere_geom *g, const ray *r, double tmin, double tmax);
 int       sphere_hit(const sphere_geom *g, const ray *r, double tmin, double tmax,
                      hit *h);
+/* Texture coordinates of a point p on the shape (each kind's convention:
+** docs/manual.md, "Texture coordinates"). */
+void      sphere_uv(const sphere_geom *g, lc_vec3 p, double uv[2]);
+void      sphere_uv_of_direction(lc_vec3 unit, double uv[2]);
 double    sphere_light_centre(const sphere_geom *g, lc_vec3 l, double d);
 int       sphere_light_begin(const sphere_geom *g, lc_vec3 p, lc_vec3 n, sphere_light *sl);
 int       sphere_light_sample(const sphere_geom *g, const sphere_light *sl, lc_vec3 p,
@@ -121,6 +125,7 @@ int       quad_hit(const quad_geom *g, const ray *r, double tmin, double tmax, h
 /* inv: the ray's reciprocal direction (1/d per axis), or NULL to compute it. */
 int       quad_hit_inv(const quad_geom *g, const ray *r, const double *inv, double tmin,
                        double tmax, hit *h);
+void      quad_uv(const quad_geom *g, lc_vec3 p, double uv[2]);
 double    quad_light_centre(const quad_geom *g, lc_vec3 l, double d);
 int       quad_light_begin(const quad_geom *g, lc_vec3 p, quad_light *ql);
 int       quad_light_sample(const quad_geom *g, const quad_light *ql, lc_vec3 p,
@@ -156,6 +161,7 @@ int       box_hit_inv(const box_geom *g, const ray *r, const double *inv, double
                       double tmax, hit *h);
 double    box_t(const box_geom *g, const ray *r, const double *inv, double tmin,
                 double tmax);
+void      box_uv(const box_geom *g, lc_vec3 p, double uv[2]);
 double    box_light_centre(const box_geom *g, lc_vec3 l, double d);
 int       box_light_begin(const box_geom *g, lc_vec3 p, box_light *bl);
 int       box_light_sample(const box_geom *g, const box_light *bl, lc_vec3 p,
@@ -180,6 +186,7 @@ int       plane_hit(const plane_geom *g, const ray *r, double tmin, double tmax,
                     hit *h);
 int       plane_hit_inv(const plane_geom *g, const ray *r, const double *inv,
                         double tmin, double tmax, hit *h);
+void      plane_uv(const plane_geom *g, lc_vec3 p, double uv[2]);
 /* Distance along r to the plane through p with unit normal n (axis >= 0:
 ** n is +-1 on that axis), or 0 for no hit in (tmin, tmax). inv: the ray's
 ** reciprocals or NULL. Inline: every ray meets every infinite plane. */
@@ -280,6 +287,10 @@ lc_status placed_check_xf(const lc_shape *s, const char *kind, lc_error *err);
 lc_status placed_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
                            lc_error *err);
 void      placed_scale(lc_shape *s, double k, lc_vec3 offset, int scales_u);
+/* A world point in canonical space; the turn 0..1 of (x, y) about the
+** origin, 0.5 along +x. */
+lc_vec3   placed_canonical(const placed_geom *g, lc_vec3 p);
+double    placed_turn(double x, double y);
 /* World area of a canonical parametric patch: sum of |M ta x M tb| da db. */
 double    placed_patch_area(const placed_geom *g,
                             void (*patch)(const placed_geom *, double, double, lc_vec3 *,
@@ -301,6 +312,7 @@ lc_status disc_check(const lc_shape *s, lc_error *err);
 void      disc_prepare(const lc_shape *s, placed_geom *g);
 double    disc_t(const placed_geom *g, const ray *r, double tmin, double tmax);
 int       disc_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit *h);
+void      disc_uv(const placed_geom *g, lc_vec3 p, double uv[2]);
 void      disc_bounds(const placed_geom *g, float lo[3], float hi[3]);
 int       disc_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint32_t S,
                             light_sample *out);
@@ -310,6 +322,7 @@ lc_status cylinder_check(const lc_shape *s, lc_error *err);
 void      cylinder_prepare(const lc_shape *s, placed_geom *g);
 double    cylinder_t(const placed_geom *g, const ray *r, double tmin, double tmax);
 int       cylinder_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit *h);
+void      cylinder_uv(const placed_geom *g, lc_vec3 p, double uv[2]);
 void      cylinder_bounds(const placed_geom *g, float lo[3], float hi[3]);
 int       cylinder_light_sample(const placed_geom *g, lc_vec3 p, const double u[2],
                                 uint32_t S, light_sample *out);
@@ -319,6 +332,7 @@ lc_status cone_check(const lc_shape *s, lc_error *err);
 void      cone_prepare(const lc_shape *s, placed_geom *g);
 double    cone_t(const placed_geom *g, const ray *r, double tmin, double tmax);
 int       cone_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit *h);
+void      cone_uv(const placed_geom *g, lc_vec3 p, double uv[2]);
 void      cone_bounds(const placed_geom *g, float lo[3], float hi[3]);
 int       cone_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint32_t S,
                             light_sample *out);
@@ -328,6 +342,7 @@ lc_status torus_check(const lc_shape *s, lc_error *err);
 void      torus_prepare(const lc_shape *s, placed_geom *g);
 double    torus_t(const placed_geom *g, const ray *r, double tmin, double tmax);
 int       torus_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit *h);
+void      torus_uv(const placed_geom *g, lc_vec3 p, double uv[2]);
 void      torus_bounds(const placed_geom *g, float lo[3], float hi[3]);
 int       torus_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint32_t S,
                              light_sample *out);
@@ -339,6 +354,7 @@ lc_status ellipsoid_check(const lc_shape *s, lc_error *err);
 void      ellipsoid_prepare(const lc_shape *s, placed_geom *g);
 double    ellipsoid_t(const placed_geom *g, const ray *r, double tmin, double tmax);
 int       ellipsoid_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit *h);
+void      ellipsoid_uv(const placed_geom *g, lc_vec3 p, double uv[2]);
 void      ellipsoid_bounds(const placed_geom *g, float lo[3], float hi[3]);
 int       ellipsoid_light_sample(const placed_geom *g, lc_vec3 p, const double u[2],
                                  uint32_t S, light_sample *out);
@@ -363,6 +379,8 @@ void      shape_describe(lc_shape_kind k, const void *geom, lc_shape *out);
 /* The shape scaled by k about the origin, then moved by offset. */
 void      shape_scale(lc_shape *s, double k, lc_vec3 offset);
 void      shape_bounds(lc_shape_kind k, const void *geom, float lo[3], float hi[3]);
+/* Texture coordinates of the point p on the shape. */
+void      shape_uv(lc_shape_kind k, const void *geom, lc_vec3 p, double uv[2]);
 /* The seed's model: where its one shadow ray aims, and for a point at
 ** distance d along unit l from that target the irradiance over pi L. */
 lc_vec3   shape_light_target(lc_shape_kind k, const void *geom);

@@ -216,3 +216,18 @@ int sphere_light_sample(const sphere_geom *g, const sphere_light *sl, lc_vec3 p,
     out->dist = disc > 0 ? b - sqrt(disc) : sl->dc;
     return 1;
 }
+
+/* ---- texture coordinates ----------------------------------------------------------- */
+
+/* Longitude and latitude, y up: u = 0.5 faces +z (the default camera) and
+** grows toward +x, v runs from 0 at the south pole to 1 at the north. */
+void sphere_uv_of_direction(lc_vec3 d, double uv[2])
+{
+    uv[0] = 0.5 + atan2(d.x, d.z) / (2 * PI);
+    uv[1] = 0.5 + asin(fmax(-1, fmin(1, d.y))) / PI;
+}
+
+void sphere_uv(const sphere_geom *g, lc_vec3 p, double uv[2])
+{
+    sphere_uv_of_direction(v3_norm(v3_sub(p, g->c)), uv);
+}

@@ -238,3 +238,14 @@ int torus_light_sample(const placed_geom *g, lc_vec3 p, const double u[2], uint3
     patch(g, u[0], u[1], &q, &ta, &tb);
     return placed_light_sample(g, torus_t, q, ta, tb, 1, p, S, out);
 }
+
+/* ---- texture coordinates ----------------------------------------------------------- */
+
+/* u: the turn around the axis; v: the turn around the tube, 0.5 on the
+** outer equator. */
+void torus_uv(const placed_geom *g, lc_vec3 p, double uv[2])
+{
+    lc_vec3 c = placed_canonical(g, p);
+    uv[0] = placed_turn(c.x, c.y);
+    uv[1] = placed_turn(hypot(c.x, c.y) - 1, c.z);
+}
