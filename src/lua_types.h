@@ -63,6 +63,7 @@ void image_register(lua_State *L);     /* lua_image.c */
 void motion_register(lua_State *L);    /* lua_motion.c: transforms and groups */
 void scene_objects_register(lua_State *L); /* lua_scene_objects.c: objects, remove */
 void hook_register(lua_State *L);      /* lua_hook.c: set_host_hook */
+void query_register(lua_State *L);     /* lua_query.c: intersect, occluded */
 
 /* lua_scene.c: the scene userdata at idx, raising when it is not one or is freed. */
 ud_scene *scene_check(lua_State *L, int idx);

@@ -1,0 +1,131 @@
+/* query.c: rays cast by the caller (lc_scene_intersect, lc_scene_occluded):
+** the scene's geometry without shading. */
+#include "error.h"
+#include "interrupt.h"
+#include "scene.h"
+#include "validate.h"
+
+#define POLL 4096     /* rays between looks at lc_interrupt() */
+
+/* The caller's ray as the tracer takes it: a unit direction from the start
+** of the interval; *len is |d|, so the caller's t is tmin + t' / len. */
+typedef struct {
+    ray    r;
+    double tmax, len;
+} cast;
+
+static lc_status check_ray(const lc_ray *q, size_t i, lc_error *err)
+{
+    lc_error e;
+    if (validate_vec(q->origin, "origin", &e) || validate_nonzero(q->direction, "direction", &e))
+        return error_fail(err, LC_EARG, "rays", "ray %zu: %s %s", i + 1, e.field, e.msg);
+    if (!(q->tmin >= 0 && q->tmin < q->tmax) || isnan(q->tmax) || isinf(q->tmin))
+        return error_fail(err, LC_EARG, "rays", "ray %zu: needs 0 <= tmin < tmax, got tmin "
+                          "%g, tmax %g", i + 1, q->tmin, q->tmax);
+    return LC_OK;
+}
+
+static cast cast_of(const lc_ray *q)
+{
+    cast c;
+    /* Scaled first: |d| of a direction near the top of the range would
+    ** overflow as it squares. */
+    double big = v3_max_abs(q->direction);
+    c.len = big * v3_len(v3_mul(q->direction, 1.0 / big));
+    c.r.d = v3_mul(q->direction, 1.0 / c.len);
+    c.r.o = q->tmin > 0 ? v3_madd(q->origin, q->direction, q->tmin) : q->origin;
+    c.tmax = (q->tmax - q->tmin) * c.len;
+    return c;
+}
+
+/* Validates every ray, compiles the geometry; the scene's lock is held. */
+static lc_status begin(lc_scene *s, const lc_ray *rays, size_t n, sig_atomic_t seen,
+                       lc_error *err)
+{
+    for (size_t i = 0; i < n; i++)
+        if (check_ray(&rays[i], i, err))
+            return LC_EARG;
+    return compile_geometry(s, seen, err);
+}
+
+static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive)
+{
+    unsigned pk = PRIM_KIND(h->shape);
+    *primitive = 0;
+    if (pk != PRIM_TRIANGLE) {
+        lc_shape_kind k = shape_kind_of_prim(pk);
+        *kind = (int)k;
+        return s->shapes[k].id[PRIM_INDEX(h->shape)];
+    }
+    const tri_ref *tr = &s->c.tris[PRIM_INDEX(h->shape)];
+    *kind = LC_SHAPE_KINDS;
+    *primitive = (long)tr->face;
+    /* An instance's faces are listed once for all its placements. */
+    return s->meshes[h->instance ? h->instance - 1 : tr->mesh].id;
+}
+
+static lc_status intersect_locked(lc_scene *s, const lc_ray *rays, size_t n,
+                                  lc_ray_hit *hits, lc_error *err)
+{
+    sig_atomic_t seen = interrupt_count();
+    if (begin(s, rays, n, seen, err))
+        return err ? err->code : LC_EARG;
+    for (size_t i = 0; i < n; i++) {
+        if (i % POLL == POLL - 1 && interrupt_count() != seen)
+            return error_fail(err, LC_ECANCEL, NULL, "interrupted after %zu of %zu rays", i, n);
+        cast c = cast_of(&rays[i]);
+        lc_ray_hit *out = &hits[i];
+        hit h;
+        memset(out, 0, sizeof *out);
+        if (!intersect_closest(s, &c.r, c.tmax, &h, NULL)) {
+            out->object = -1;
+            out->shape_kind = -1;
+            out->material = -1;
+            continue;
+        }
+        out->hit = 1;
+        out->t = rays[i].tmin + h.t / c.len;
+        out->point = h.p;
+        out->normal = h.n;
+        out->shading_normal = h.ns;
+        intersect_uv(s, &h, out->uv);
+        out->object = object_of(s, &h, &out->shape_kind, &out->primitive);
+        out->material = h.material;
+    }
+    error_ok(err);
+    return LC_OK;
+}
+
+static lc_status occluded_locked(lc_scene *s, const lc_ray *rays, size_t n,
+                                 unsigned char *blocked, lc_error *err)
+{
+    sig_atomic_t seen = interrupt_count();
+    if (begin(s, rays, n, seen, err))
+        return err ? err->code : LC_EARG;
+    for (size_t i = 0; i < n; i++) {
+        if (i % POLL == POLL - 1 && interrupt_count() != seen)
+            return error_fail(err, LC_ECANCEL, NULL, "interrupted after %zu of %zu rays", i, n);
+        cast c = cast_of(&rays[i]);
+        blocked[i] = (unsigned char)intersect_occluded(s, &c.r, c.tmax, NULL);
+    }
+    error_ok(err);
+    return LC_OK;
+}
+
+lc_status lc_scene_intersect(lc_scene *s, const lc_ray *rays, size_t n, lc_ray_hit *hits,
+                             lc_error *err)
+{
+    pthread_mutex_lock(&s->lock);
+    lc_status st = intersect_locked(s, rays, n, hits, err);
+    pthread_mutex_unlock(&s->lock);
+    return st;
+}
+
+lc_status lc_scene_occluded(lc_scene *s, const lc_ray *rays, size_t n,
+                            unsigned char *blocked, lc_error *err)
+{
+    pthread_mutex_lock(&s->lock);
+    lc_status st = occluded_locked(s, rays, n, blocked, err);
+    pthread_mutex_unlock(&s->lock);
+    return st;
+}
