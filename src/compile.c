@@ -275,10 +275,10 @@ lc_status compile_scene(lc_scene *s, const lc_render_options *o, sig_atomic_t se
     if (st != LC_OK)
         return st;
     compiled *c = &s->c;
-    if (decide_needs(s, o, err)) {
-        compile_free(c);
+    /* Out of memory for the plan: the geometry stays, for the rays that
+    ** other threads may be casting into it (query.c). */
+    if (decide_needs(s, o, err))
         return LC_ENOMEM;
-    }
     c->seconds = clock_seconds() - t0;
     error_ok(err);
     return LC_OK;

@@ -12,8 +12,10 @@
 ** be used on different threads at once, sharing meshes (a mesh's reference
 ** count is atomic), as long as no mesh grows while a scene holding it
 ** renders. On one scene, renders and explains from several threads take
-** turns (the scene has a lock); its other calls (add, remove, configure,
-** transformed, objects) must not run while it renders on another thread.
+** turns (the scene has a lock); rays cast into it (lc_scene_intersect and
+** lc_scene_occluded) run at once on any number of threads; its other calls
+** (add, remove, configure, transformed, objects) must not run while it
+** renders or is cast into on another thread.
 ** An image is used by one thread at a time. lc_interrupt, lc_save_abandon,
 ** lc_memory_cap and lc_memory_used may be called from any thread; the
 ** first two from a signal handler too. */
@@ -413,8 +415,10 @@ typedef struct {
 /* The nearest hit of each of n rays into hits[0, n). Every ray is checked
 ** first (finite origin within the coordinate range, a non-zero finite
 ** direction, 0 <= tmin < tmax): a bad one fails the call naming it, with
-** nothing traced. Stops with LC_ECANCEL on lc_interrupt. One thread; takes
-** the scene's lock, as a render does. */
+** nothing traced. Stops with LC_ECANCEL on lc_interrupt. Casts on the
+** caller's thread; several threads may cast into one scene at once (split
+** the rays between them), and a cast waits for a render of that scene in
+** progress on another thread to finish. */
 lc_status lc_scene_intersect(lc_scene *s, const lc_ray *rays, size_t n, lc_ray_hit *hits,
                              lc_error *err);
 /* Whether anything lies on each ray: blocked[i] = 1 or 0. Faster than

@@ -38,14 +38,19 @@ static cast cast_of(const lc_ray *q)
     return c;
 }
 
-/* Validates every ray, compiles the geometry; the scene's lock is held. */
+/* Validates every ray, then compiles the geometry if it changed, under the
+** scene's lock (a render in progress holds it); tracing needs no lock, so
+** several threads cast into one scene at once. */
 static lc_status begin(lc_scene *s, const lc_ray *rays, size_t n, sig_atomic_t seen,
                        lc_error *err)
 {
     for (size_t i = 0; i < n; i++)
         if (check_ray(&rays[i], i, err))
             return LC_EARG;
-    return compile_geometry(s, seen, err);
+    pthread_mutex_lock(&s->lock);
+    lc_status st = compile_geometry(s, seen, err);
+    pthread_mutex_unlock(&s->lock);
+    return st;
 }
 
 static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive)
@@ -64,7 +69,7 @@ static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive
     return s->meshes[h->instance ? h->instance - 1 : tr->mesh].id;
 }
 
-static lc_status intersect_locked(lc_scene *s, const lc_ray *rays, size_t n,
+static lc_status intersect_rays(lc_scene *s, const lc_ray *rays, size_t n,
                                   lc_ray_hit *hits, lc_error *err)
 {
     sig_atomic_t seen = interrupt_count();
@@ -96,7 +101,7 @@ static lc_status intersect_locked(lc_scene *s, const lc_ray *rays, size_t n,
     return LC_OK;
 }
 
-static lc_status occluded_locked(lc_scene *s, const lc_ray *rays, size_t n,
+static lc_status occluded_rays(lc_scene *s, const lc_ray *rays, size_t n,
                                  unsigned char *blocked, lc_error *err)
 {
     sig_atomic_t seen = interrupt_count();
@@ -115,17 +120,11 @@ static lc_status occluded_locked(lc_scene *s, const lc_ray *rays, size_t n,
 lc_status lc_scene_intersect(lc_scene *s, const lc_ray *rays, size_t n, lc_ray_hit *hits,
                              lc_error *err)
 {
-    pthread_mutex_lock(&s->lock);
-    lc_status st = intersect_locked(s, rays, n, hits, err);
-    pthread_mutex_unlock(&s->lock);
-    return st;
+    return intersect_rays(s, rays, n, hits, err);
 }
 
 lc_status lc_scene_occluded(lc_scene *s, const lc_ray *rays, size_t n,
                             unsigned char *blocked, lc_error *err)
 {
-    pthread_mutex_lock(&s->lock);
-    lc_status st = occluded_locked(s, rays, n, blocked, err);
-    pthread_mutex_unlock(&s->lock);
-    return st;
+    return occluded_rays(s, rays, n, blocked, err);
 }

@@ -1,7 +1,7 @@
 /* test_threads.c: the uses of the C API from several threads that lancer.h
 ** documents: scenes sharing a mesh rendered at once, one scene rendered from
 ** two threads (they take turns), meshes added and dropped while others
-** render. Run under ThreadSanitizer by `make tsan`; in the plain build it
+** render, rays cast from several threads while the scene renders. Run under ThreadSanitizer by `make tsan`; in the plain build it
 ** checks the results. */
 #include <math.h>
 #include <pthread.h>
@@ -132,6 +132,57 @@ static void one_scene_from_two_threads_takes_turns(void **state)
     lc_scene_free(s);
 }
 
+/* Rays cast from two threads into one fresh scene (the first cast of each
+** may compile it) while a third renders it: every hit as one thread alone
+** finds it. */
+enum { CAST_N = 5000 };
+
+typedef struct { lc_scene *scene; const lc_ray *rays; lc_ray_hit *hits; int ok; } cast_job;
+
+static void *cast_rays(void *arg)
+{
+    cast_job *c = arg;
+    lc_error err;
+    c->ok = lc_scene_intersect(c->scene, c->rays, CAST_N, c->hits, &err) == LC_OK;
+    return NULL;
+}
+
+static void casts_from_threads_while_it_renders(void **state)
+{
+    (void)state;
+    lc_mesh *m = pyramid();
+    lc_scene *s = scene_with(m, 0.3);
+    static lc_ray rays[CAST_N];
+    static lc_ray_hit ha[CAST_N], hb[CAST_N], alone[CAST_N];
+    for (int i = 0; i < CAST_N; i++) {
+        double a = 2 * 3.14159265358979 * i / CAST_N;
+        rays[i] = (lc_ray){{3 * cos(a), 0.6, 3 * sin(a)},
+                           {-cos(a), -0.1 * (i % 7), -sin(a)}, 0, HUGE_VAL};
+    }
+    cast_job a = {s, rays, ha, 0}, b = {s, rays, hb, 0};
+    job r = {NULL, s, 0, 0, 3};
+    pthread_t ta, tb, tr;
+    pthread_create(&ta, NULL, cast_rays, &a);
+    pthread_create(&tr, NULL, render_shared, &r);
+    pthread_create(&tb, NULL, cast_rays, &b);
+    pthread_join(ta, NULL);
+    pthread_join(tb, NULL);
+    pthread_join(tr, NULL);
+    cast_job one = {s, rays, alone, 0};
+    cast_rays(&one);
+    assert_true(a.ok && b.ok && one.ok);
+    int hits = 0;
+    for (int i = 0; i < CAST_N; i++) {
+        assert_true(ha[i].hit == alone[i].hit && hb[i].hit == alone[i].hit);
+        assert_true(ha[i].t == alone[i].t && hb[i].t == alone[i].t);
+        assert_true(ha[i].object == alone[i].object && ha[i].primitive == alone[i].primitive);
+        hits += alone[i].hit;
+    }
+    assert_true(hits > CAST_N / 4);
+    lc_scene_free(s);
+    lc_mesh_free(m);
+}
+
 static void *interrupt_soon(void *arg)
 {
     (void)arg;
@@ -154,6 +205,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(scenes_sharing_a_mesh_render_at_once),
         cmocka_unit_test(one_scene_from_two_threads_takes_turns),
+        cmocka_unit_test(casts_from_threads_while_it_renders),
         cmocka_unit_test(interrupt_from_another_thread),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
