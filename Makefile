@@ -2,7 +2,7 @@
 #   make          build everything under build/
 #   make demo     install missing Debian packages, build, render the showcase
 #   make test     install missing Debian packages, build, run every test
-#   make bench    lancer against POV-Ray and Tachyon (QUICK=1: a 2-minute subset)
+#   make bench    lancer against POV-Ray, Tachyon and Embree (QUICK=1: a subset)
 #   make SAN=1    add address and undefined-behaviour sanitizers
 #   make NAIVE=1  build/naive: naive intersections and epsilons (bench only)
 #   make MINIMAL=1 build/minimal: diffuse-only shading (bench only)
@@ -128,9 +128,16 @@ check: all $(C_TESTS)
 # The naive build prices the robust code (tools/bench/robust.lua), the
 # minimal one the full shading (tools/bench/parity.lua).
 bench: all $(BUILD)/bin/lc-runstat
+	@sh tools/install-deps.sh bench
+	@$(MAKE) --no-print-directory $(BUILD)/bin/lc-raycast
 	@$(MAKE) --no-print-directory NAIVE=1 build/naive/bin/lancer
 	@$(MAKE) --no-print-directory MINIMAL=1 build/minimal/bin/lancer
 	$(BIN) tools/bench/bench.lua $(if $(filter 1,$(QUICK)),quick)
+
+# The Embree peer (tools/bench/embree.lua): bench only, never in lancer.
+$(BUILD)/bin/lc-raycast: tools/bench/raycast.c $(LIB)
+	@mkdir -p $(@D)
+	$(CC) $(CFLAGS) -std=c11 -Isrc $(LDFLAGS) -o $@ $< $(LIB) -lembree3 $(PNG_LIBS) -lm -pthread
 
 $(BUILD)/bin/lc-runstat: tools/runstat.c
 	@mkdir -p $(@D)

@@ -155,6 +155,10 @@ lc_status lc_mesh_add_uvs(lc_mesh *m, const double *uv, size_t n, lc_error *err)
 lc_status lc_mesh_add_faces(lc_mesh *m, const uint32_t *abc, size_t n, lc_error *err);
 size_t    lc_mesh_vertex_count(const lc_mesh *m);
 size_t    lc_mesh_face_count(const lc_mesh *m);
+/* What the mesh holds, valid until it grows or is freed: 3 doubles per
+** vertex; 3 vertex indices (0-based) per face. */
+const double   *lc_mesh_vertex_data(const lc_mesh *m);
+const uint32_t *lc_mesh_face_data(const lc_mesh *m);
 /* Reads v, vt, vn and f statements (negative indices; polygons become
 ** fans; a vertex split where its corners carry other vt or vn; uvs and
 ** normals kept when every corner has one); other statements are skipped;

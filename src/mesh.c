@@ -128,3 +128,6 @@ lc_status lc_mesh_add_faces(lc_mesh *m, const uint32_t *abc, size_t n, lc_error 
 
 size_t lc_mesh_vertex_count(const lc_mesh *m) { return m->nv; }
 size_t lc_mesh_face_count(const lc_mesh *m) { return m->nf; }
+
+const double *lc_mesh_vertex_data(const lc_mesh *m) { return m->v; }
+const uint32_t *lc_mesh_face_data(const lc_mesh *m) { return m->f; }

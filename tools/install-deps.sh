@@ -1,6 +1,6 @@
 #!/bin/sh
 # install-deps.sh: install the Debian packages lancer needs, only those missing.
-# Usage: tools/install-deps.sh [build|test]
+# Usage: tools/install-deps.sh [build|test|bench]
 # Runs apt-get (through sudo when not root) only when something is missing,
 # so a machine that already has everything is never touched.
 set -eu
@@ -9,11 +9,15 @@ build_pkgs="gcc make pkg-config lua5.4 liblua5.4-dev libpng-dev libedit-dev"
 # parallel: tests/lua/test_farm.lua splits an animation over GNU parallel workers.
 # ffmpeg is optional (about 300 packages): its tests are skipped without it.
 test_pkgs="libcmocka-dev parallel"
+# The bench's peers: POV-Ray and Tachyon render the same scenes; Embree 3
+# traces the same rays (tools/bench/raycast.c; never linked into lancer).
+bench_pkgs="povray tachyon libembree-dev"
 
 case "${1:-build}" in
     build) want="$build_pkgs" ;;
     test)  want="$build_pkgs $test_pkgs" ;;
-    *) echo "usage: $0 [build|test]" >&2; exit 2 ;;
+    bench) want="$build_pkgs $bench_pkgs" ;;
+    *) echo "usage: $0 [build|test|bench]" >&2; exit 2 ;;
 esac
 
 missing=""

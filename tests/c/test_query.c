@@ -193,6 +193,9 @@ static void meshes_name_their_faces(void **state)
     assert_int_equal(lc_mesh_add_faces(a, f, 2, &err), LC_OK);
     assert_int_equal(lc_mesh_add_vertices(b, vb, 4, &err), LC_OK);
     assert_int_equal(lc_mesh_add_faces(b, f, 2, &err), LC_OK);
+    /* What a mesh holds reads back as it was given. */
+    assert_memory_equal(lc_mesh_vertex_data(a), v, sizeof v);
+    assert_memory_equal(lc_mesh_face_data(a), f, sizeof f);
     int ia = lc_scene_add_mesh(s, a, mi, &err);
     int ib = lc_scene_add_mesh(s, b, mi, &err);
     lc_transform t = {{{1, 0, 0, 5}, {0, 1, 0, 0}, {0, 0, 1, 0}}};

@@ -1,4 +1,5 @@
--- bench.lua: `make bench`: lancer, POV-Ray 3.7 and Tachyon 0.99 on BENCH.md's scenes.
+-- bench.lua: `make bench`: lancer, POV-Ray 3.7 and Tachyon 0.99 on BENCH.md's
+-- scenes, and Embree 3 on the same rays (tools/bench/embree.lua).
 --
 -- Usage, from anywhere, after `make all build/bin/lc-runstat`:
 --   build/bin/lancer tools/bench/bench.lua [quick] [case ...]
@@ -7,7 +8,8 @@
 -- B3 4M (about 3 minutes and 8 GB for 1M spheres). The sections after the
 -- cases have keys too: robust, parity, knobs (T5: cost linear in camera,
 -- cone and light samples, tools/bench/knobs.lua), adaptive (T7: adaptive
--- sampling against uniform 256 spp, tools/bench/adaptive.lua).
+-- sampling against uniform 256 spp, tools/bench/adaptive.lua), embree
+-- (lancer's ray queries against Embree's, tools/bench/embree.lua).
 --
 -- For each case: write the POV-Ray and Tachyon files into out/bench/, then
 -- run lancer, POV-Ray and Tachyon in turn (interleaved, so a noisy spell
@@ -27,6 +29,7 @@ local robust = module("robust")
 local parity = module("parity")
 local knobs = module("knobs")
 local adaptive = module("adaptive")
+local embree = module("embree")
 
 local ROOT = run.output("cd " .. run.quote(here .. "/../..") .. " && pwd")
 local OUT = ROOT .. "/out/bench"
@@ -34,6 +37,7 @@ local LANCER = ROOT .. "/build/bin/lancer"
 local NAIVE = ROOT .. "/build/naive/bin/lancer"    -- make NAIVE=1
 local MINIMAL = ROOT .. "/build/minimal/bin/lancer" -- make MINIMAL=1
 local RUNSTAT = ROOT .. "/build/bin/lc-runstat"
+local RAYCAST = ROOT .. "/build/bin/lc-raycast"      -- the Embree peer
 
 local QUICK = os.getenv("QUICK") == "1"
 local ONLY = nil                      -- case keys named on the command line
@@ -238,10 +242,10 @@ for key in pairs(ONLY or {}) do
   local known = false
   for _, case in ipairs(CASES) do known = known or case.key == key end
   known = known or key == "robust" or key == "parity" or key == "knobs" or
-          key == "adaptive"
+          key == "adaptive" or key == "embree"
   if not known then
     fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m "
-         .. "robust parity knobs adaptive)", key)
+         .. "robust parity knobs adaptive embree)", key)
   end
 end
 local results = {}
@@ -277,6 +281,15 @@ end
 if not ONLY or ONLY.adaptive then
   say("adaptive sampling (T7)")
   text = text .. "\n" .. adaptive.section{say = say, quick = QUICK}
+end
+if not ONLY or ONLY.embree then
+  if run.available(RAYCAST) then
+    say("Embree 3 on the same rays")
+    text = text .. "\n" .. embree.section{run = run, runstat = RUNSTAT, root = ROOT,
+      out = OUT, raycast = RAYCAST, threads = THREADS, quick = QUICK, say = say}
+  else
+    say("%s not found: `make bench` builds it (with Debian's libembree-dev)", RAYCAST)
+  end
 end
 io.write(text)
 io.stdout:flush()                     -- before the last line on stderr

@@ -21,9 +21,6 @@ M.IMAGE_TOL = 2 / 255
 M.IMAGE_MEAN_MAX = 0.5           -- mean |difference| x 255 (seen: <= 0.12)
 M.IMAGE_WITHIN_MIN = 99.0        -- % of pixels within IMAGE_TOL (seen: >= 99.4)
 
--- BENCH.md's Embree 3 render times (primary + one shadow ray, 2 threads).
-M.EMBREE_TRACE = {["b2-1m"] = 0.53, ["b3-1m"] = 0.22, ["b3-4m"] = 0.25}
-
 local function f2(x) return x and fmt("%.2f", x) or "-" end
 local function f3(x) return x and fmt("%.3f", x) or "-" end
 
@@ -143,18 +140,8 @@ local function targets(results)
     add(nil, "B3 4M: wall <= 6 s and peak <= 450 MB (not measured)")
   end
 
-  for _, e in ipairs{{"b2-1m", "B2 1M"}, {"b3-1m", "B3 1M"}, {"b3-4m", "B3 4M"}} do
-    local key, name = e[1], e[2]
-    local embree = M.EMBREE_TRACE[key]
-    m = lancer(key)
-    if m and m.trace then
-      add(m.trace <= 1.5 * embree,
-          "%s: trace %.3f s <= 1.5 x Embree %.2f s = %.3f s (%.2fx)", name, m.trace,
-          embree, 1.5 * embree, m.trace / embree)
-    else
-      add(nil, "%s: trace <= 1.5 x Embree %.2f s (not measured)", name, embree)
-    end
-  end
+  -- The targets against Embree are measured in the same run, on the same
+  -- rays: tools/bench/embree.lua's section.
 
   local big, small = lancer("b2-1m"), lancer("b2-1k")
   if big and small and big.trace and small.trace then
