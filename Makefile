@@ -3,7 +3,8 @@
 #   make demo     install missing Debian packages, build, render the showcase
 #   make test     install missing Debian packages, build, run every test
 #   make bench    lancer against POV-Ray and Tachyon (QUICK=1: a 2-minute subset)
-#   make SAN=1    add address and undefined-behaviour sanitizers
+#   make SAN=1    build/san: address, undefined-behaviour and leak sanitizers
+#   make santest  the tests against build/san (ASan + UBSan + LSan, any report fails)
 #   make NAIVE=1  build/naive: naive intersections and epsilons (bench only)
 #   make MINIMAL=1 build/minimal: diffuse-only shading (bench only)
 
@@ -20,6 +21,11 @@ ifeq ($(MINIMAL),1)
 BUILD   ?= build/minimal
 CPPFLAGS += -DLC_MINIMAL
 endif
+ifeq ($(SAN),1)
+# Its own tree: make SAN=1 after a plain make rebuilds everything, and the
+# two builds never mix objects.
+BUILD   ?= build/san
+endif
 BUILD   ?= build
 PKGS    := lua5.4 libpng
 WARN    := -Wall -Wextra -Wshadow -Wundef -Wwrite-strings -Wstrict-prototypes \
@@ -33,8 +39,15 @@ CFLAGS  ?= -O3 -g
 CFLAGS  += -std=c99 $(WARN) -ffp-contract=off -fPIC -pthread -D_POSIX_C_SOURCE=200809L
 CPPFLAGS += -MMD -MP
 ifeq ($(SAN),1)
-CFLAGS  += -fsanitize=address,undefined -fno-omit-frame-pointer
-LDFLAGS += -fsanitize=address,undefined
+# -fno-sanitize-recover: undefined behaviour stops the program, as an ASan
+# report does, so no report scrolls past a test that goes on passing.
+SANITIZE := -fsanitize=address,undefined -fno-sanitize-recover=all
+CFLAGS  += $(SANITIZE) -fno-omit-frame-pointer
+LDFLAGS += $(SANITIZE)
+# GCC's shared libubsan beside libasan ignores log_path, so its reports
+# would go only to a stderr a test may swallow; linked into the programs
+# (lancer, the C tests) it writes them where tests/run.sh looks.
+EXE_LDFLAGS := -static-libubsan
 endif
 
 LUA_CFLAGS := $(shell pkg-config --cflags lua5.4 2>/dev/null)
@@ -67,7 +80,7 @@ MODULE := $(BUILD)/lancer/core.so
 BIN    := $(BUILD)/bin/lancer
 C_TESTS := $(patsubst tests/c/%.c,$(BUILD)/tests/%,$(wildcard tests/c/test_*.c))
 
-.PHONY: all demo test check bench clean install-deps
+.PHONY: all demo test check santest bench clean install-deps
 all: $(LIB) $(MODULE) $(BIN)
 
 $(BUILD)/obj/%.o: src/%.c
@@ -101,11 +114,12 @@ $(BUILD)/obj/lua_embedded.o: $(BUILD)/gen/lua_embedded.c
 
 $(BIN): $(HOST_OBJ) $(BUILD)/obj/lua_embedded.o $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EDIT_LIBS) -lm -pthread
+	$(CC) $(LDFLAGS) $(EXE_LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EDIT_LIBS) -lm -pthread
 
 $(BUILD)/tests/%: tests/c/%.c $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -Isrc -o $@ $< $(LIB) $(CMOCKA_LIBS) $(PNG_LIBS) -lm -pthread
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXE_LDFLAGS) -Isrc -o $@ $< $(LIB) $(CMOCKA_LIBS) $(PNG_LIBS) \
+	    -lm -pthread
 
 install-deps:
 	@sh tools/install-deps.sh build
@@ -123,6 +137,12 @@ test:
 
 check: all $(C_TESTS)
 	@sh tests/run.sh $(BUILD)
+
+# The whole suite against build/san: ASan, UBSan and LeakSanitizer, every
+# report a failure (tests/run.sh says how).
+santest:
+	@sh tools/install-deps.sh test
+	@$(MAKE) --no-print-directory SAN=1 check
 
 # The peers' files, images and results.md land in out/bench/ (tools/bench/).
 # The naive build prices the robust code (tools/bench/robust.lua), the
