@@ -1,7 +1,9 @@
 #!/bin/sh
-# run.sh BUILD: runs the C unit tests (cmocka) and the Lua tests against
-# the tree BUILD; prints the skipped ones and one closing line "N passed,
-# M failed" over all of them; exits 1 on failure.
+# run.sh BUILD [FUZZ]: runs the C unit tests (cmocka) and the Lua tests
+# against the tree BUILD, then, given FUZZ (the fuzzers' tree, build/fuzz),
+# a short seeded run of each fuzzer (tests/fuzz/run.sh smoke); prints the
+# skipped ones and one closing line "N passed, M failed" over all of them;
+# exits 1 on failure.
 #
 # A sanitized BUILD (make SAN=1, build/san) runs the same tests under ASan,
 # UBSan and LeakSanitizer, every report written to BUILD/reports/ rather
@@ -13,6 +15,7 @@
 # the tests that call them.
 set -u
 build=${1:-build}
+fuzz=${2:-}
 passed=0 failed=0 skipped=0
 log=$(mktemp)
 tmp=$(mktemp -d)
@@ -81,6 +84,14 @@ LANCER_BIN="$build/bin/lancer" $lua_run tests/lua/all.lua >"$log" 2>&1
 rc=$?
 cat "$log"
 tally $rc
+
+if [ -n "$fuzz" ]; then
+    echo "== fuzzers (smoke: seeded, a few seconds each)"
+    sh tests/fuzz/run.sh smoke "$fuzz" >"$log" 2>&1
+    rc=$?
+    cat "$log"
+    tally $rc
+fi
 
 if [ "$san" -eq 1 ]; then
     n=$(ls "$reports" | wc -l)
