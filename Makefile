@@ -166,9 +166,9 @@ santest:
 # ---- Fuzzing (tests/fuzz/README.md) --------------------------------------------
 
 # The harnesses, each linked with libFuzzer against the instrumented core
-# of build/fuzz.
+# (and, for lua, the binding) of build/fuzz.
 FUZZ_SECONDS ?= 60
-FUZZERS := obj png
+FUZZERS := obj png lua
 fuzz: fuzz-build
 	@sh tests/fuzz/run.sh long build/fuzz $(FUZZ_SECONDS)
 
@@ -187,6 +187,10 @@ $(BUILD)/fuzz_obj: tests/fuzz/obj/fuzz_obj.c $(LIB)
 $(BUILD)/fuzz_png: tests/fuzz/png/fuzz_png.c $(LIB)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) \
 	    $(PNG_LIBS) $(ZLIB_LIBS) -lm -pthread
+
+$(BUILD)/fuzz_lua: tests/fuzz/lua/fuzz_lua.c $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(LUA_CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< \
+	    $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(LUA_LIBS) $(PNG_LIBS) -lm -pthread
 endif
 
 # The peers' files, images and results.md land in out/bench/ (tools/bench/).
