@@ -1,7 +1,8 @@
 /* fuzz_png.c: libFuzzer harness of the PNG reader (lc_image_load_png), in
 ** both encodings. The input is a PNG file whose chunk CRCs the harness
 ** recomputes first: libpng refuses a chunk with a wrong CRC, so without
-** this almost every mutation of a header or a palette would end there. */
+** this almost every mutation of a header or a palette would end there.
+** FUZZ_PNG_SAVE=FILE writes the file as the reader sees it. */
 #define _GNU_SOURCE                 /* memfd_create */
 #include <math.h>
 #include <stdint.h>
@@ -78,7 +79,8 @@ static void check_image(const lc_image *img)
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
             lc_color c = lc_image_get(img, x, y);
-            if (!(c.r >= 0 && c.r <= 1 && c.g >= 0 && c.g <= 1 && c.b >= 0 && c.b <= 1)) {
+            if (!(c.r >= 0 && c.r <= 1 && c.g >= 0 && c.g <= 1 &&
+                  c.b >= 0 && c.b <= 1)) {
                 fprintf(stderr, "pixel (%d, %d) is (%g, %g, %g)\n", x, y, c.r, c.g, c.b);
                 abort();
             }
@@ -94,6 +96,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fix_crcs(buf, size);
     if (ftruncate(fd, 0) || pwrite(fd, buf, size, 0) != (ssize_t)size)
         abort();
+    /* FUZZ_PNG_SAVE=FILE: the file as read, CRCs fixed, to try elsewhere. */
+    const char *save = getenv("FUZZ_PNG_SAVE");
+    FILE *f = save ? fopen(save, "wb") : NULL;
+    if (f)
+        fwrite(buf, 1, size, f), fclose(f);
     free(buf);
     lc_image *img[2];
     const lc_encoding enc[2] = {LC_ENCODE_SRGB, LC_ENCODE_LINEAR};
