@@ -793,6 +793,14 @@ static int w_write(lua_State *L)
 }
 
 /* Empties D, so no input sees a file another one wrote. */
+static void empty_dir(void);
+
+static void remove_dir(void)
+{
+    empty_dir();
+    rmdir(dir);
+}
+
 static void empty_dir(void)
 {
     DIR *d = opendir(dir);
@@ -830,6 +838,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
              tmp && strlen(tmp) < 40 ? tmp : "/tmp");
     if (!mkdtemp(dir))
         abort();
+    atexit(remove_dir);
     /* An image of 2^28 pixels is a legal size: the cap makes it LC_ENOMEM. */
     lc_memory_cap((size_t)64 << 20);
     return 0;
