@@ -12,7 +12,8 @@
 # links the ASan runtime first, which the stock lua5.4 cannot load the
 # sanitized module without), its host hook removed so the binding is met
 # as from lua5.4; lua5.4 and cc on PATH preload or link the runtimes for
-# the tests that call them.
+# the tests that call them. Then the fuzzers' regressions written as plain
+# Lua run in that lancer: the bugs they found, until fixed, show here.
 set -u
 build=${1:-build}
 fuzz=${2:-}
@@ -84,6 +85,32 @@ LANCER_BIN="$build/bin/lancer" $lua_run tests/lua/all.lua >"$log" 2>&1
 rc=$?
 cat "$log"
 tally $rc
+
+# The fuzzers' finds, as the plain-Lua scripts beside their regression
+# inputs (tests/fuzz/*/regressions/NAME.lua), each run by the sanitized
+# lancer: one that raises a sanitizer report fails (the report is counted
+# below); an ordinary Lua error is what a fixed binding gives, and passes.
+if [ "$san" -eq 1 ]; then
+    echo "== the fuzzers' regressions in plain Lua, under the sanitizers"
+    mkdir "$tmp/work"
+    for r in tests/fuzz/*/regressions/*.lua; do
+        [ -f "$r" ] || continue
+        ls "$reports" >"$tmp/before"
+        (cd "$tmp/work" && "$OLDPWD/$build/bin/lancer" "$OLDPWD/$r") >"$log" 2>&1
+        rc=$?
+        new=$(ls "$reports" | comm -13 "$tmp/before" - | sed "s|^|$build/reports/|")
+        if [ -n "$new" ]; then
+            echo "FAIL $r: a sanitizer report, shown below:" $new
+        elif [ "$rc" -gt 1 ]; then
+            echo "FAIL $r: exit $rc"
+            sed 's/^/  /' "$log"
+            failed=$((failed + 1))
+        else
+            echo "ok   $r: no report (exit $rc)"
+            passed=$((passed + 1))
+        fi
+    done
+fi
 
 if [ -n "$fuzz" ]; then
     echo "== fuzzers (smoke: seeded, a few seconds each)"
