@@ -3,11 +3,14 @@
 #   make demo     install missing Debian packages, build, render the showcase
 #   make test     install missing Debian packages, build, run every test
 #   make bench    lancer against POV-Ray, Tachyon and Embree (QUICK=1: a subset)
-#   make SAN=1    add address and undefined-behaviour sanitizers
+#   make SAN=1    build/san: address, undefined-behaviour and leak sanitizers
+#   make santest  the tests against build/san (ASan + UBSan + LSan, any report fails)
+#   make fuzz     the libFuzzer harnesses of tests/fuzz/, FUZZ_SECONDS (60) each
 #   make NAIVE=1  build/naive: naive intersections and epsilons (bench only)
 #   make MINIMAL=1 build/minimal: diffuse-only shading (bench only)
 
 CC      ?= cc
+FUZZ_CC ?= clang
 ifeq ($(NAIVE),1)
 # The textbook intersections and a fixed spawn epsilon, for pricing the robust
 # code in make bench; never for rendering.
@@ -19,6 +22,18 @@ ifeq ($(MINIMAL),1)
 # the full shading in make bench (NUMERICS.md S7); never for rendering.
 BUILD   ?= build/minimal
 CPPFLAGS += -DLC_MINIMAL
+endif
+ifeq ($(SAN),1)
+# Its own tree: make SAN=1 after a plain make rebuilds everything, and the
+# two builds never mix objects.
+BUILD   ?= build/san
+endif
+ifeq ($(FUZZ),1)
+# The libFuzzer harnesses' tree (tests/fuzz/): clang, every object
+# instrumented for coverage and sanitized; make fuzz and the test smoke.
+BUILD   ?= build/fuzz
+CC      := $(FUZZ_CC)
+CFLAGS  ?= -O1 -g
 endif
 BUILD   ?= build
 PKGS    := lua5.4 libpng
@@ -33,8 +48,19 @@ CFLAGS  ?= -O3 -g
 CFLAGS  += -std=c99 $(WARN) -ffp-contract=off -fPIC -pthread -D_POSIX_C_SOURCE=200809L
 CPPFLAGS += -MMD -MP
 ifeq ($(SAN),1)
-CFLAGS  += -fsanitize=address,undefined -fno-omit-frame-pointer
-LDFLAGS += -fsanitize=address,undefined
+# -fno-sanitize-recover: undefined behaviour stops the program, as an ASan
+# report does, so no report scrolls past a test that goes on passing.
+SANITIZE := -fsanitize=address,undefined -fno-sanitize-recover=all
+CFLAGS  += $(SANITIZE) -fno-omit-frame-pointer
+LDFLAGS += $(SANITIZE)
+# GCC's shared libubsan beside libasan ignores log_path, so its reports
+# would go only to a stderr a test may swallow; linked into the programs
+# (lancer, the C tests) it writes them where tests/run.sh looks.
+EXE_LDFLAGS := -static-libubsan
+endif
+ifeq ($(FUZZ),1)
+SANITIZE := -fsanitize=address,undefined -fno-sanitize-recover=all
+CFLAGS  += -fsanitize=fuzzer-no-link $(SANITIZE) -fno-omit-frame-pointer
 endif
 
 LUA_CFLAGS := $(shell pkg-config --cflags lua5.4 2>/dev/null)
@@ -44,6 +70,7 @@ PNG_LIBS   := $(shell pkg-config --libs libpng 2>/dev/null)
 EDIT_CFLAGS := $(shell pkg-config --cflags libedit 2>/dev/null)
 EDIT_LIBS   := $(shell pkg-config --libs libedit 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
+ZLIB_LIBS   := $(shell pkg-config --libs zlib 2>/dev/null)
 
 # Lua-free helpers the binding and the command share but the core must not
 # have (the core never prints): linked into the module and lancer only.
@@ -67,7 +94,7 @@ MODULE := $(BUILD)/lancer/core.so
 BIN    := $(BUILD)/bin/lancer
 C_TESTS := $(patsubst tests/c/%.c,$(BUILD)/tests/%,$(wildcard tests/c/test_*.c))
 
-.PHONY: all demo test check bench clean install-deps
+.PHONY: all demo test check santest fuzz fuzz-build fuzzers bench clean install-deps
 all: $(LIB) $(MODULE) $(BIN)
 
 $(BUILD)/obj/%.o: src/%.c
@@ -101,11 +128,12 @@ $(BUILD)/obj/lua_embedded.o: $(BUILD)/gen/lua_embedded.c
 
 $(BIN): $(HOST_OBJ) $(BUILD)/obj/lua_embedded.o $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EDIT_LIBS) -lm -pthread
+	$(CC) $(LDFLAGS) $(EXE_LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EDIT_LIBS) -lm -pthread
 
 $(BUILD)/tests/%: tests/c/%.c $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -Isrc -o $@ $< $(LIB) $(CMOCKA_LIBS) $(PNG_LIBS) -lm -pthread
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXE_LDFLAGS) -Isrc -o $@ $< $(LIB) $(CMOCKA_LIBS) $(PNG_LIBS) \
+	    -lm -pthread
 
 install-deps:
 	@sh tools/install-deps.sh build
@@ -121,8 +149,49 @@ test:
 	@sh tools/install-deps.sh test
 	@$(MAKE) --no-print-directory check
 
-check: all $(C_TESTS)
-	@sh tests/run.sh $(BUILD)
+# The default tree's check ends with the fuzzers' smoke run (build/fuzz);
+# the other trees' (SAN=1, ...) run the tests alone.
+ifeq ($(BUILD),build)
+FUZZ_TREE := build/fuzz
+endif
+check: all $(C_TESTS) $(if $(FUZZ_TREE),fuzz-build)
+	@sh tests/run.sh $(BUILD) $(FUZZ_TREE)
+
+# The whole suite against build/san: ASan, UBSan and LeakSanitizer, every
+# report a failure (tests/run.sh says how).
+santest:
+	@sh tools/install-deps.sh test
+	@$(MAKE) --no-print-directory SAN=1 check
+
+# ---- Fuzzing (tests/fuzz/README.md) --------------------------------------------
+
+# The harnesses, each linked with libFuzzer against the instrumented core
+# (and, for lua, the binding) of build/fuzz.
+FUZZ_SECONDS ?= 60
+FUZZERS := obj png lua
+fuzz: fuzz-build
+	@sh tests/fuzz/run.sh long build/fuzz $(FUZZ_SECONDS)
+
+# Builds build/fuzz when clang can link a libFuzzer harness; otherwise says
+# why in build/fuzz/toolchain, which the smoke run reports as a skip.
+fuzz-build:
+	@if sh tests/fuzz/toolchain.sh "$(FUZZ_CC)" build/fuzz; then \
+	    $(MAKE) --no-print-directory FUZZ=1 fuzzers; fi
+
+ifeq ($(FUZZ),1)
+fuzzers: $(FUZZERS:%=$(BUILD)/fuzz_%)
+
+$(BUILD)/fuzz_obj: tests/fuzz/obj/fuzz_obj.c $(LIB)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) $(PNG_LIBS) -lm -pthread
+
+$(BUILD)/fuzz_png: tests/fuzz/png/fuzz_png.c $(LIB)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) \
+	    $(PNG_LIBS) $(ZLIB_LIBS) -lm -pthread
+
+$(BUILD)/fuzz_lua: tests/fuzz/lua/fuzz_lua.c $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(LUA_CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< \
+	    $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(LUA_LIBS) $(PNG_LIBS) -lm -pthread
+endif
 
 # The peers' files, images and results.md land in out/bench/ (tools/bench/).
 # The naive build prices the robust code (tools/bench/robust.lua), the
@@ -147,3 +216,4 @@ clean:
 	rm -rf $(BUILD) tests/out
 
 -include $(CORE_OBJ:.o=.d) $(LUA_OBJ:.o=.d) $(HELPER_OBJ:.o=.d) $(BUILD)/obj/main.d $(C_TESTS:=.d)
+-include $(FUZZERS:%=$(BUILD)/fuzz_%.d)

@@ -7,8 +7,12 @@ set -eu
 
 build_pkgs="gcc make pkg-config lua5.4 liblua5.4-dev libpng-dev libedit-dev"
 # parallel: tests/lua/test_farm.lua splits an animation over GNU parallel workers.
+# clang, libclang-rt-dev: the fuzzers' smoke run (tests/fuzz/); clang links
+# libFuzzer and its sanitizers only with the compiler-rt libraries, which
+# libclang-rt-dev (libclang-rt-14-dev on Debian 12) holds and clang merely
+# recommends. About 55 MB; without them the smoke run is skipped.
 # ffmpeg is optional (about 300 packages): its tests are skipped without it.
-test_pkgs="libcmocka-dev parallel"
+test_pkgs="libcmocka-dev parallel clang libclang-rt-dev"
 # The bench's peers: POV-Ray and Tachyon render the same scenes; Embree 3
 # traces the same rays (tools/bench/raycast.c; never linked into lancer).
 bench_pkgs="povray tachyon libembree-dev"
