@@ -112,6 +112,71 @@ static lc_status check_size(png_uint_32 w, png_uint_32 h, const char *path, lc_e
     return LC_OK;
 }
 
+/* No chunk but image data may be larger: libpng reads an ancillary chunk
+** (text, ICC profile, palette) whole into memory, as long as its header
+** says, before checking it against anything. */
+#define PNG_MAX_CHUNK ((uint32_t)16 << 20)
+
+static uint32_t be32(const unsigned char *b)
+{
+    return (uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3];
+}
+
+/* Walks the chunks' headers (seeking past their data) before libpng reads
+** any: a chunk longer than the file or, but for IDAT, than PNG_MAX_CHUNK is
+** refused, naming it (a 64-byte file whose zTXt claimed 2 GB had libpng
+** allocate and fill 2 GB), as is a chunk type that is not 4 letters.
+** Leaves fp at the start. */
+static lc_status check_chunks(FILE *fp, const char *path, lc_error *err)
+{
+    static const unsigned char sig[8] = {137, 'P', 'N', 'G', '\r', '\n', 26, '\n'};
+    unsigned char b[8];
+    lc_status st = LC_OK;
+    if (fseek(fp, 0, SEEK_END) != 0)
+        return LC_OK;                        /* not seekable: libpng alone checks */
+    long size = ftell(fp);
+    rewind(fp);
+    if (fread(b, 1, 8, fp) != 8 || memcmp(b, sig, 8) != 0) {
+        st = error_fail(err, LC_EIO, "path", "cannot read '%s': not a PNG file", path);
+        goto done;
+    }
+    for (long at = 8; at + 8 <= size;) {
+        if (fread(b, 1, 8, fp) != 8)
+            break;
+        uint32_t len = be32(b);
+        char type[5] = {(char)b[4], (char)b[5], (char)b[6], (char)b[7], 0};
+        /* Letters only (PNG 5.4); libpng's two readers disagreed on a bad
+        ** type after the image data (one stops before it). */
+        for (int k = 0; k < 4; k++)
+            if (!((type[k] >= 'A' && type[k] <= 'Z') || (type[k] >= 'a' && type[k] <= 'z'))) {
+                st = error_fail(err, LC_EIO, "path", "cannot read '%s': the chunk at byte "
+                                "%ld has no valid type (bytes %02x %02x %02x %02x)", path, at,
+                                b[4], b[5], b[6], b[7]);
+                goto done;
+            }
+        if ((long long)len + 12 > (long long)size - at) {
+            st = error_fail(err, LC_EIO, "path", "cannot read '%s': chunk '%s' at byte %ld "
+                            "claims %lu bytes, past the end of the file", path, type, at,
+                            (unsigned long)len);
+            goto done;
+        }
+        if (len > PNG_MAX_CHUNK && memcmp(type, "IDAT", 4) != 0) {
+            st = error_fail(err, LC_EIO, "path", "cannot read '%s': chunk '%s' of %lu bytes "
+                            "is past lancer's cap of %lu bytes for one chunk", path, type,
+                            (unsigned long)len, (unsigned long)PNG_MAX_CHUNK);
+            goto done;
+        }
+        if (memcmp(type, "IEND", 4) == 0)
+            break;
+        at += 12 + (long)len;
+        if (fseek(fp, at, SEEK_SET) != 0)
+            break;
+    }
+done:
+    rewind(fp);
+    return st;
+}
+
 /* Decoded: libpng's own reader (its simplified API) turns every colour
 ** type, bit depth, palette, tRNS, interlacing and gAMA/sRGB/cHRM into 16-bit
 ** linear light, composited onto black where the file is transparent; a
@@ -121,6 +186,10 @@ static lc_image *load_decoded(const char *path, lc_error *err)
     FILE *fp = fopen(path, "rb");
     if (!fp) {
         error_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
+        return NULL;
+    }
+    if (check_chunks(fp, path, err)) {
+        fclose(fp);
         return NULL;
     }
     png_image pi;
@@ -177,6 +246,10 @@ static lc_image *load_stored(const char *path, lc_error *err)
         error_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
         return NULL;
     }
+    if (check_chunks(fp, path, err)) {
+        fclose(fp);
+        return NULL;
+    }
     png_failure fail = {""};
     png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &fail, on_png_error,
                                              on_png_warning);
@@ -231,7 +304,9 @@ static lc_image *load_stored(const char *path, lc_error *err)
     for (png_uint_32 y = 0; y < h; y++)
         rows[y] = pixels + y * rowbytes;
     png_read_image(png, rows);
-    png_read_end(png, NULL);
+    /* No png_read_end: what follows the image data (text, a bad CRC there)
+    ** is not read, as libpng's simplified reader does not read it either,
+    ** so that a file reads in both encodings or in neither. */
     double max = bytes == 2 ? 65535 : 255;
     for (png_uint_32 y = 0; y < h; y++) {
         float *dst = img->px + (size_t)y * w * 3;

@@ -297,11 +297,75 @@ static void oversized_png_names_the_cap(void **state)
     unlink(path);
 }
 
+/* Appends chunk `type` claiming `claim` bytes, holding the first `n` of
+** data, with its CRC; returns the new end. */
+static unsigned char *put_chunk(unsigned char *at, const char *type, uint32_t claim,
+                                const unsigned char *data, size_t n)
+{
+    for (int i = 0; i < 4; i++)
+        at[i] = (unsigned char)(claim >> (24 - 8 * i));
+    memcpy(at + 4, type, 4);
+    if (n)
+        memcpy(at + 8, data, n);
+    unsigned long crc = crc32_of(at + 4, 4 + n);
+    for (int i = 0; i < 4; i++)
+        at[8 + n + i] = (unsigned char)(crc >> (24 - 8 * i));
+    return at + 12 + n;
+}
+
+static void expect_refused(const unsigned char *file, size_t n, const char *want)
+{
+    char path[] = "/tmp/lancer-png-XXXXXX";
+    int fd = mkstemp(path);
+    assert_int_equal(write(fd, file, n), (ssize_t)n);
+    close(fd);
+    for (int enc = 0; enc < 2; enc++) {
+        lc_error err;
+        assert_null(lc_image_load_png(path, (lc_encoding)enc, &err));
+        if (!strstr(err.msg, want))
+            fail_msg("'%s' lacks '%s'", err.msg, want);
+    }
+    unlink(path);
+}
+
+/* Chunks are checked before libpng reads them: a 64-byte file whose zTXt
+** claimed 2 GB had libpng allocate and fill 2 GB (found by the PNG
+** fuzzer); a text chunk past 16 MiB is refused too, naming the cap. */
+static void chunk_lengths_are_checked_first(void **state)
+{
+    (void)state;
+    static const unsigned char ihdr[13] = {0, 0, 0, 1, 0, 0, 0, 1, 8, 2, 0, 0, 0};
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    unsigned char small[64];
+    memcpy(small, sig, 8);
+    unsigned char *end = put_chunk(small + 8, "IHDR", 13, ihdr, 13);
+    end = put_chunk(end, "zTXt", 1998913536u, (const unsigned char *)"Comment", 7);
+    expect_refused(small, (size_t)(end - small),
+                   "chunk 'zTXt' at byte 33 claims 1998913536 bytes, past the end of the file");
+    size_t big = (17u << 20);
+    unsigned char *file = calloc(1, big + 128);
+    memcpy(file, sig, 8);
+    end = put_chunk(file + 8, "IHDR", 13, ihdr, 13);
+    memcpy(end + 8, "Comment", 8);
+    end = put_chunk(end, "tEXt", (uint32_t)big, end + 8, big);
+    expect_refused(file, (size_t)(end - file),
+                   "chunk 'tEXt' of 17825792 bytes is past lancer's cap of 16777216 bytes");
+    free(file);
+    expect_refused((const unsigned char *)"GIF89a, not a PNG", 17, "not a PNG file");
+    /* A bad type after the image data: libpng's simplified reader stopped
+    ** before it, the low-level one failed; both refuse it now. */
+    end = put_chunk(small + 8, "IHDR", 13, ihdr, 13);
+    end = put_chunk(end, "\tEND", 0, NULL, 0);
+    expect_refused(small, (size_t)(end - small),
+                   "the chunk at byte 33 has no valid type (bytes 09 45 4e 44)");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(every_kind_of_png_loads_right),
         cmocka_unit_test(oversized_png_names_the_cap),
+        cmocka_unit_test(chunk_lengths_are_checked_first),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
