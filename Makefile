@@ -5,6 +5,7 @@
 #   make bench    lancer against POV-Ray, Tachyon and Embree (QUICK=1: a subset)
 #   make SAN=1    build/san: address, undefined-behaviour and leak sanitizers
 #   make santest  the tests against build/san (ASan + UBSan + LSan, any report fails)
+#   make tsan     the threaded C tests under ThreadSanitizer (build/tsan)
 #   make fuzz     the libFuzzer harnesses of tests/fuzz/, FUZZ_SECONDS (60) each
 #   make NAIVE=1  build/naive: naive intersections and epsilons (bench only)
 #   make MINIMAL=1 build/minimal: diffuse-only shading (bench only)
@@ -27,6 +28,9 @@ ifeq ($(SAN),1)
 # Its own tree: make SAN=1 after a plain make rebuilds everything, and the
 # two builds never mix objects.
 BUILD   ?= build/san
+endif
+ifeq ($(TSAN),1)
+BUILD   ?= build/tsan
 endif
 ifeq ($(FUZZ),1)
 # The libFuzzer harnesses' tree (tests/fuzz/): clang, every object
@@ -57,6 +61,10 @@ LDFLAGS += $(SANITIZE)
 # would go only to a stderr a test may swallow; linked into the programs
 # (lancer, the C tests) it writes them where tests/run.sh looks.
 EXE_LDFLAGS := -static-libubsan
+endif
+ifeq ($(TSAN),1)
+CFLAGS  += -fsanitize=thread
+LDFLAGS += -fsanitize=thread
 endif
 ifeq ($(FUZZ),1)
 SANITIZE := -fsanitize=address,undefined -fno-sanitize-recover=all
@@ -94,7 +102,7 @@ MODULE := $(BUILD)/lancer/core.so
 BIN    := $(BUILD)/bin/lancer
 C_TESTS := $(patsubst tests/c/%.c,$(BUILD)/tests/%,$(wildcard tests/c/test_*.c))
 
-.PHONY: all demo test check santest fuzz fuzz-build fuzzers bench clean install-deps
+.PHONY: all demo test check santest tsan fuzz fuzz-build fuzzers bench clean install-deps
 all: $(LIB) $(MODULE) $(BIN)
 
 $(BUILD)/obj/%.o: src/%.c
@@ -162,6 +170,14 @@ check: all $(C_TESTS) $(if $(FUZZ_TREE),fuzz-build)
 santest:
 	@sh tools/install-deps.sh test
 	@$(MAKE) --no-print-directory SAN=1 check
+
+# The C tests that use threads (renders, casts, interrupts, shared meshes)
+# under ThreadSanitizer, in build/tsan; any report fails.
+TSAN_TESTS := test_threads test_query test_api test_reliability
+tsan:
+	@$(MAKE) --no-print-directory TSAN=1 $(TSAN_TESTS:%=build/tsan/tests/%)
+	@for t in $(TSAN_TESTS); do echo "== build/tsan/tests/$$t"; \
+	    TSAN_OPTIONS="halt_on_error=1 exitcode=66" build/tsan/tests/$$t || exit 1; done
 
 # ---- Fuzzing (tests/fuzz/README.md) --------------------------------------------
 
