@@ -393,6 +393,67 @@ lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y
                            int sample, lc_ray_record **records, size_t *n,
                            lc_error *err);
 
+/* ---- Textures ----------------------------------------------------------------
+** A texture gives a colour at a surface point: a solid pattern over space
+** (checker, stripes, gradient, noise, marble, wood), an image over the
+** surface's texture coordinates, or a mix of two. Where a number is wanted
+** (kd, ks, ...), its luminance (0.2126 r + 0.7152 g + 0.0722 b) is used. */
+typedef enum {
+    LC_TEX_CHECKER, LC_TEX_STRIPES, LC_TEX_GRADIENT, LC_TEX_NOISE, LC_TEX_MARBLE,
+    LC_TEX_WOOD, LC_TEX_IMAGE, LC_TEX_MIX, LC_TEX_KINDS
+} lc_texture_kind;
+
+/* Where a pattern is evaluated: at the world point, at the point in the
+** object's own space (moved meshes and placed shapes: what their transform
+** moved; other shapes: the world), or at (u, v, 0). */
+typedef enum { LC_MAP_WORLD, LC_MAP_OBJECT, LC_MAP_UV } lc_texture_mapping;
+typedef enum { LC_WRAP_REPEAT, LC_WRAP_CLAMP, LC_WRAP_MIRROR } lc_texture_wrap;
+
+#define LC_MAX_OCTAVES 16
+#define LC_MAX_TEXTURE_DEPTH 16   /* textures within textures, at most */
+
+typedef struct lc_textures lc_textures;   /* a set of textures that refer to each other */
+
+typedef struct {
+    lc_texture_kind kind;
+    lc_color a, b;         /* checker's two squares, stripes' two bands, the ends of a
+                           ** gradient, the ramp of noise, marble and wood; mix: the two */
+    int      ta, tb;       /* or textures in their place: 1 + index in the set (0: the
+                           ** colour) */
+    int      tamount;      /* mix: 1 + index of the texture whose luminance weights b
+                           ** over a; 0: the constant `amount` */
+    double   amount;       /* mix: b's weight, in [0, 1] */
+    double   scale;        /* the pattern's period (checker: a square's side), > 0 */
+    lc_vec3  axis;         /* stripes: across this direction; gradient: from `origin`
+                           ** to origin + axis (a at the start, b at the end) */
+    lc_vec3  origin;
+    int      octaves;      /* noise, marble, wood: 1..LC_MAX_OCTAVES */
+    double   turbulence;   /* noise: 0 smooth noise, else turbulence (|noise| summed);
+                           ** marble and wood: how far the noise bends veins and rings */
+    lc_texture_mapping mapping;
+    int      moved;        /* the pattern is placed by xf: evaluated at xf^-1 p */
+    lc_transform xf;
+    /* image: linear RGB, width x height, row 0 at the top (v = 1); copied
+    ** when added. u wraps as `wrap` says, and v. Bilinear, or nearest. */
+    const lc_image *image;
+    lc_texture_wrap wrap;
+    int      nearest;
+} lc_texture;
+
+lc_texture   lc_texture_default(lc_texture_kind kind);   /* white and black, scale 1 */
+lc_textures *lc_textures_new(lc_error *err);
+void         lc_textures_free(lc_textures *set);           /* NULL is a no-op */
+/* Checks t and adds it (an image is copied); returns its index, or -1. A
+** texture may refer only to textures added before it. */
+int          lc_textures_add(lc_textures *set, const lc_texture *t, lc_error *err);
+size_t       lc_textures_count(const lc_textures *set);
+/* Texture i at a surface point: p in the world, q in the object's space
+** (p where it has none), uv its texture coordinates. */
+lc_color     lc_textures_eval(const lc_textures *set, int i, lc_vec3 p, lc_vec3 q,
+                              const double uv[2]);
+/* Perlin's improved gradient noise (2002): 0 at integer points, in [-1, 1]. */
+double       lc_noise(lc_vec3 p);
+
 /* ---- Casting rays ------------------------------------------------------------
 ** The scene's exact geometry alone, for scripts (drop objects on a terrain,
 ** scatter along a surface) and embedders: no shading, no lights. A ray is
