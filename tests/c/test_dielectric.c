@@ -1,5 +1,5 @@
-/* test_dielectric.c: Snell's law and the Fresnel equations (NUMERICS.md
-** 1.10, H19), against closed forms. */
+/* test_dielectric.c: Snell's law, the Fresnel equations (NUMERICS.md 1.10,
+** H19) and the media a path is in (H20's rules), against closed forms. */
 #include <float.h>
 #include <math.h>
 #include <setjmp.h>
@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <cmocka.h>
 #include "dielectric.h"
+#include "media.h"
 
 /* Knuth's MMIX LCG, seeded per case: [0, 1). */
 static double lcg(uint64_t *s)
@@ -191,6 +192,90 @@ static void snell(void **state)
     }
 }
 
+/* ---- media --------------------------------------------------------------- */
+
+static uint32_t add_medium(lc_scene *s, double ior)
+{
+    lc_material m = lc_material_default();
+    m.kt = 1;
+    m.ior = ior;
+    lc_error err;
+    int i = lc_scene_add_material(s, &m, &err);
+    assert_true(i >= 0);
+    return (uint32_t)i;
+}
+
+/* Crosses mi (entering or not) from md: returns 1 for an interface and
+** checks its indices; md becomes the media past it. */
+static int cross(const lc_scene *s, media *md, uint32_t mi, int entering, double want1,
+                 double want2)
+{
+    media past;
+    double n1 = 0, n2 = 0;
+    int real = media_cross(s, md, mi, entering, &past, &n1, &n2);
+    if (real) {
+        assert_true(n1 == want1);
+        assert_true(n2 == want2);
+    }
+    *md = past;
+    return real;
+}
+
+/* The index ratio at every interface of nested closed objects (H20), a
+** camera inside glass, overlaps, and more media than the stack holds. */
+static void nested_media(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_scene *s = lc_scene_new(&err);
+    uint32_t glass = add_medium(s, 1.5), air = add_medium(s, 1);
+    uint32_t water = add_medium(s, 1.333);
+    media md = {0, {0}};
+    /* An air bubble in glass: 1 -> 1.5 -> 1 -> 1.5 -> 1. */
+    assert_true(cross(s, &md, glass, 1, 1, 1.5));
+    assert_true(cross(s, &md, air, 1, 1.5, 1));
+    assert_true(cross(s, &md, air, 0, 1, 1.5));
+    assert_true(cross(s, &md, glass, 0, 1.5, 1));
+    assert_int_equal(md.n, 0);
+    /* A glass sphere in the same glass: its surface is no interface. */
+    assert_true(cross(s, &md, glass, 1, 1, 1.5));
+    assert_false(cross(s, &md, glass, 1, 0, 0));
+    assert_false(cross(s, &md, glass, 0, 0, 0));
+    assert_true(cross(s, &md, glass, 0, 1.5, 1));
+    assert_int_equal(md.n, 0);
+    /* Water in a glass, overlapping its walls: glass -> water at the water's
+    ** surface, and the glass's inner wall, inside the water, is none. */
+    assert_true(cross(s, &md, glass, 1, 1, 1.5));
+    assert_true(cross(s, &md, water, 1, 1.5, 1.333));
+    assert_false(cross(s, &md, glass, 0, 0, 0));
+    assert_true(cross(s, &md, glass, 1, 1.333, 1.5));
+    assert_false(cross(s, &md, water, 0, 0, 0));
+    assert_true(cross(s, &md, glass, 0, 1.5, 1));
+    assert_int_equal(md.n, 0);
+    /* A camera inside glass leaves what it never entered. */
+    assert_true(cross(s, &md, glass, 0, 1.5, 1));
+    assert_int_equal(md.n, 0);
+    /* Deeper than the stack: the outermost two are forgotten; the last in
+    ** the stack and they are left into air, right for the outermost. */
+    uint32_t shells[MEDIA_MAX + 2];
+    double prev = 1;
+    for (int i = 0; i < MEDIA_MAX + 2; i++) {
+        double n = 1.1 + 0.1 * i;
+        shells[i] = add_medium(s, n);
+        assert_true(cross(s, &md, shells[i], 1, prev, n));
+        prev = n;
+    }
+    assert_int_equal(md.n, MEDIA_MAX);
+    for (int i = MEDIA_MAX + 1; i >= 0; i--) {
+        double out = i > 0 ? 1.1 + 0.1 * (i - 1) : 1;
+        if (i <= 2)                /* inside the forgotten ones: air outside */
+            out = 1;
+        assert_true(cross(s, &md, shells[i], 0, 1.1 + 0.1 * i, out));
+    }
+    assert_int_equal(md.n, 0);
+    lc_scene_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -199,6 +284,7 @@ int main(void)
         cmocka_unit_test(critical_angle),
         cmocka_unit_test(grazing_sweep),
         cmocka_unit_test(snell),
+        cmocka_unit_test(nested_media),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
