@@ -135,17 +135,22 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     for (size_t i = 0; i < s->nmeshes; i++)
         used[s->meshes[i].material] = 1;
     census lit = {0, 0}, spec = {0, 0}, refl = {0, 0}, gloss = {0, 0}, amb = {0, 0},
-           inuse = {0, 0};
+           inuse = {0, 0}, refr = {0, 0}, filt = {0, 0};
     for (size_t i = 0; i < s->nmaterials; i++) {
         const lc_material *m = &s->materials[i];
         if (!used[i])
             continue;
         count(&inuse, i);
+        /* A dielectric reflects (Fresnel, or total internal reflection)
+        ** whatever its kr. */
+        int reflects = m->kr > 0 || m->kt > 0;
         if (m->kd > 0 || m->ks > 0) count(&lit, i);
         if (m->ks > 0) count(&spec, i);
-        if (m->kr > 0 && !material_cone(m, o)) count(&refl, i);
-        if (m->kr > 0 && material_cone(m, o)) count(&gloss, i);
+        if (reflects && !material_cone(m, o)) count(&refl, i);
+        if (reflects && material_cone(m, o)) count(&gloss, i);
         if (m->ka > 0) count(&amb, i);
+        if (m->kt > 0) count(&refr, i);
+        if (m->kt > 0 && m->shadow == LC_SHADOW_FILTERED) count(&filt, i);
     }
     int depth = compile_depth(s, o);
     int lights = s->nlights > 0 || s->nemitters > 0;
@@ -159,6 +164,10 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     if (gloss.count && depth > 0 && o->reflections) needs |= LC_NEED_GLOSSY;
     if (amb.count && ambient) needs |= LC_NEED_AMBIENT;
     if (s->camera.aperture > 0) needs |= LC_NEED_LENS;
+    if (refr.count && depth > 0) needs |= LC_NEED_REFRACT;
+    /* Shadow rays are traced from lit materials, toward lights. */
+    int shadow_rays = lit.count && lights && o->shadows;
+    if (filt.count && shadow_rays) needs |= LC_NEED_FILTER;
     if (o->generic) {        /* everything that can run, runs */
         if (s->nlights) needs |= LC_NEED_SHADOW;
         if (s->nemitters) needs |= area ? LC_NEED_AREA : LC_NEED_EMITTER;
@@ -166,6 +175,7 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
         if (o->reflections && depth > 0) needs |= LC_NEED_REFLECT;
         if (o->reflections && depth > 0 && gloss.count) needs |= LC_NEED_GLOSSY;
         needs |= LC_NEED_AMBIENT;
+        if (lights && o->shadows) needs |= LC_NEED_FILTER;   /* shadows walk every hit */
     }
     c->needs = needs;
     c->depth = depth;
@@ -190,12 +200,15 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     else
         WHY(2, !o->specular ? "switched off (specular = false)" : !spec.count ?
             "no material in use has ks > 0" : "no light");
+    const char *krt = refr.count ? "kr or kt" : "kr";   /* glass reflects too */
     if (needs & LC_NEED_REFLECT)
-        WHY(3, "%zu material%s in use with kr > 0 (first: #%zu), max_depth %d",
-            refl.count, refl.count == 1 ? "" : "s", refl.first, depth);
+        WHY(3, "%zu material%s in use with %s > 0 (first: #%zu), max_depth %d",
+            refl.count, refl.count == 1 ? "" : "s", krt, refl.first, depth);
     else
         WHY(3, !o->reflections ? "switched off (reflections = false)" :
             !refl.count && !gloss.count ? "no material in use has kr > 0" :
+            !refl.count && refr.count ?
+                "every material in use with kr or kt > 0 has a cone" :
             !refl.count ? "every material in use with kr > 0 has a cone" : "max_depth is 0");
     if (needs & LC_NEED_AMBIENT)
         WHY(4, "ambient light and %zu material%s in use with ka > 0", amb.count,
@@ -203,8 +216,8 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     else
         WHY(4, !ambient ? "no ambient light" : "no material in use has ka > 0");
     if (needs & LC_NEED_GLOSSY)
-        WHY(5, "%zu material%s in use with kr > 0 and a cone (first: #%zu), %s",
-            gloss.count, gloss.count == 1 ? "" : "s", gloss.first,
+        WHY(5, "%zu material%s in use with %s > 0 and a cone (first: #%zu), %s",
+            gloss.count, gloss.count == 1 ? "" : "s", krt, gloss.first,
             o->cone_samples ? "cone_samples set by the render" : "each its cone_samples");
     else
         WHY(5, !o->glossy ? "switched off (glossy = false): cones are mirrors" :
@@ -223,16 +236,32 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
             camera_focus(&s->camera));
     else
         WHY(7, "camera aperture 0: a pinhole");
+    if (needs & LC_NEED_REFRACT)
+        WHY(8, "%zu material%s in use with kt > 0 (first: #%zu), max_depth %d",
+            refr.count, refr.count == 1 ? "" : "s", refr.first, depth);
+    else
+        WHY(8, !refr.count ? "no material in use has kt > 0" : "max_depth is 0");
+    if ((needs & LC_NEED_FILTER) && filt.count)
+        WHY(9, "%zu material%s in use with kt > 0 and shadow = 'filtered' "
+            "(first: #%zu): shadow rays go through them", filt.count,
+            filt.count == 1 ? "" : "s", filt.first);
+    else if (needs & LC_NEED_FILTER)
+        WHY(9, "generic: every shadow ray walks its hits");
+    else
+        WHY(9, !filt.count ? "no material in use has kt > 0 and shadow = 'filtered'" :
+            !o->shadows ? "shadows off: no shadow rays" : !lights ? "no light" :
+            "no material in use has kd or ks > 0");
 #undef WHY
 
     for (size_t i = 0; i < s->nmaterials; i++) {
         const lc_material *m = &s->materials[i];
         int cone = material_cone(m, o);
+        int reflects = m->kr > 0 || m->kt > 0;
         unsigned char p = 0;
         if (m->kd > 0 || m->ks > 0) p |= PLAN_LIGHTS;
         if (m->ks > 0 && (needs & LC_NEED_SPECULAR)) p |= PLAN_SPECULAR;
-        if (m->kr > 0 && !cone && (needs & LC_NEED_REFLECT)) p |= PLAN_REFLECT;
-        if (m->kr > 0 && cone && (needs & LC_NEED_GLOSSY)) p |= PLAN_GLOSSY;
+        if (reflects && !cone && (needs & LC_NEED_REFLECT)) p |= PLAN_REFLECT;
+        if (reflects && cone && (needs & LC_NEED_GLOSSY)) p |= PLAN_GLOSSY;
         if (m->ka > 0 && (needs & LC_NEED_AMBIENT)) p |= PLAN_AMBIENT;
         if (!c_is_black(m->emission)) p |= PLAN_EMITS;
         if (o->generic)
@@ -240,6 +269,10 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
                 (needs & LC_NEED_SPECULAR ? PLAN_SPECULAR : 0) |
                 (cone ? (needs & LC_NEED_GLOSSY ? PLAN_GLOSSY : 0)
                       : (needs & LC_NEED_REFLECT ? PLAN_REFLECT : 0));
+        /* Only what transmits is a medium or lets shadows through, generic
+        ** or not: kt = 0 is opaque. */
+        if (m->kt > 0 && (needs & LC_NEED_REFRACT)) p |= PLAN_REFRACT;
+        if (m->kt > 0 && m->shadow == LC_SHADOW_FILTERED) p |= PLAN_FILTER;
         c->plan[i] = p;
     }
     return LC_OK;

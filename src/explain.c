@@ -6,8 +6,8 @@
 
 void explain_free(ray_log *g)
 {
-    free(g->before);
-    g->before = NULL;
+    free(g->own);
+    g->own = NULL;
 }
 
 int explain_ray(ray_log *g, int parent, lc_ray_kind kind, const ray *r)
@@ -19,16 +19,17 @@ int explain_ray(ray_log *g, int parent, lc_ray_kind kind, const ray *r)
         lc_ray_record *p = realloc(g->r, nc * sizeof *p);
         if (p)
             g->r = p;
-        double *b = p ? realloc(g->before, 3 * nc * sizeof *b) : NULL;
+        double *b = p ? realloc(g->own, 3 * nc * sizeof *b) : NULL;
         if (!b) {
             g->failed = 1;
             return -1;
         }
-        g->before = b;
+        g->own = b;
         g->cap = nc;
     }
     lc_ray_record *x = &g->r[g->n];
     memset(x, 0, sizeof *x);
+    g->own[3 * g->n] = g->own[3 * g->n + 1] = g->own[3 * g->n + 2] = 0;
     x->parent = parent;
     x->kind = kind;
     x->origin = r->o;
@@ -40,14 +41,12 @@ int explain_ray(ray_log *g, int parent, lc_ray_kind kind, const ray *r)
 }
 
 void explain_hit(ray_log *g, const lc_scene *s, int rec, const hit *h, lc_vec3 n,
-                 radiance w, radiance acc)
+                 radiance w)
 {
     if (rec < 0)
         return;
     g->parent = rec;
     g->w = w;
-    double *b = g->before + 3 * rec;
-    b[0] = acc.r, b[1] = acc.g, b[2] = acc.b;
     if (!h)                                  /* a miss: the background */
         return;
     lc_ray_record *x = &g->r[rec];
@@ -91,15 +90,31 @@ void explain_light(ray_log *g, int rec, const lc_material *m, radiance d, radian
     g->r[rec].contribution = rgb((float)share.r, (float)share.g, (float)share.b);
 }
 
-void explain_path(ray_log *g, int first, int last, radiance acc)
+void explain_add(ray_log *g, int rec, radiance add)
 {
-    for (int i = last; i >= 0; i = g->r[i].parent) {
+    if (rec < 0)
+        return;
+    double *o = g->own + 3 * rec;
+    o[0] += add.r, o[1] += add.g, o[2] += add.b;
+}
+
+static int is_shadow(lc_ray_kind k) { return k == LC_RAY_SHADOW || k == LC_RAY_LIGHT; }
+
+/* A ray is recorded after the one it leaves from, so from the last record
+** back each subtree's sum is whole when its root is reached. */
+void explain_finish(ray_log *g)
+{
+    if (g->failed)
+        return;
+    for (size_t i = g->n; i-- > 0;) {
         lc_ray_record *x = &g->r[i];
-        const double *b = g->before + 3 * i;
-        if (x->kind != LC_RAY_SHADOW && x->kind != LC_RAY_LIGHT)
-            x->contribution = rgb((float)(acc.r - b[0]), (float)(acc.g - b[1]),
-                                  (float)(acc.b - b[2]));
-        if (i == first)
-            break;
+        if (is_shadow(x->kind))
+            continue;
+        double *o = g->own + 3 * i;
+        x->contribution = rgb((float)o[0], (float)o[1], (float)o[2]);
+        if (x->parent >= 0) {
+            double *p = g->own + 3 * x->parent;
+            p[0] += o[0], p[1] += o[1], p[2] += o[2];
+        }
     }
 }

@@ -8,7 +8,7 @@
 
 typedef struct {
     lc_ray_record *r;
-    double *before;          /* 3 per record: the pixel's sum before that ray */
+    double *own;             /* 3 per record: what its own hit (or miss) adds */
     size_t n, cap;
     int failed;              /* out of memory: the rest is not recorded */
     int parent;              /* the record of the ray being shaded */
@@ -19,10 +19,13 @@ void explain_free(ray_log *g);            /* what recording kept, but records */
 /* Appends a record of ray r from record parent (-1: the camera ray's);
 ** returns its index, or -1 once out of memory. */
 int  explain_ray(ray_log *g, int parent, lc_ray_kind kind, const ray *r);
-/* The path's ray `rec` met h (n faces the viewer): from here on, what is
-** added counts for it, with weight w; acc is the pixel's sum so far. */
+/* The path's ray `rec` met h (NULL: nothing; n faces the viewer), where it
+** weighs w in the pixel: the shadow rays that follow are its children. */
 void explain_hit(ray_log *g, const lc_scene *s, int rec, const hit *h, lc_vec3 n,
-                 radiance w, radiance acc);
+                 radiance w);
+/* What ray rec's own hit or miss adds to the pixel (its light, emission,
+** background), branches and sub-paths apart. */
+void explain_add(ray_log *g, int rec, radiance add);
 /* A shadow ray toward `light` (i: point light i; -1 - e: emitter e) from
 ** the ray being shaded, as far as distance; returns its record or -1. */
 int  explain_shadow(ray_log *g, lc_ray_kind kind, const ray *r, int light,
@@ -31,8 +34,8 @@ void explain_visible(ray_log *g, int rec);
 /* The light that shadow ray `rec` brings: diffuse d and specular sp before
 ** the material's coefficients, in the pixel. */
 void explain_light(ray_log *g, int rec, const lc_material *m, radiance d, radiance sp);
-/* The path from record first to record last brought back acc: each camera,
-** reflection or cone ray on it gets what was added from its own hit on. */
-void explain_path(ray_log *g, int first, int last, radiance acc);
+/* Once the sample is traced: each camera, reflection, refraction or cone
+** ray gets what it adds with everything that follows it (its subtree). */
+void explain_finish(ray_log *g);
 
 #endif

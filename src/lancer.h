@@ -60,6 +60,10 @@ typedef struct { float r, g, b; } lc_color;    /* linear RGB */
 ** ambient and diffuse terms. */
 typedef enum { LC_ABSORB_ALL, LC_ABSORB_DIFFUSE } lc_absorb;
 
+/* How shadow rays cross a material with kt > 0: multiplied by its
+** transmission and absorption (POV-Ray's look), or stopped (the seed). */
+typedef enum { LC_SHADOW_FILTERED, LC_SHADOW_OPAQUE } lc_shadow_mode;
+
 typedef struct {
     lc_color  color;     /* C: absorption, every component in [0, 1] */
     double    ka;        /* ambient coefficient */
@@ -72,11 +76,23 @@ typedef struct {
     double    glossiness;   /* the seed's diffusion cone: half-angle in degrees of
                             ** the cone of reflected rays, in [0, 90); 0 = mirror */
     int       cone_samples; /* rays over the cone at the first glossy hit, >= 1 */
+    double    kt;        /* transmission coefficient: > 0 makes it a dielectric */
+    double    ior;       /* index of refraction inside, in [1, LC_MAX_IOR] */
+    int       fresnel;   /* 1: reflect kr + kt F, transmit kt (1 - F), F the exact
+                         ** unpolarised Fresnel reflectance; 0: kr and kt as they
+                         ** are (the seed's), kr + kt at total internal reflection */
+    lc_vec3   absorption;   /* Beer-Lambert coefficients inside, per unit length,
+                            ** of red, green, blue as x, y, z (a length's inverse:
+                            ** double, in [0, 1 / LC_MIN_LENGTH]): e^(-a d) of a
+                            ** channel is left after a distance d */
+    lc_shadow_mode shadow;  /* shadow rays through it, when kt > 0 */
 } lc_material;
 
 #define LC_MAX_CONE_SAMPLES 4096
+#define LC_MAX_IOR 100
 
-lc_material lc_material_default(void);  /* white, kd 1, rest 0; 16 cone samples */
+/* White, kd 1, rest 0; 16 cone samples; ior 1, Fresnel on, filtered shadows. */
+lc_material lc_material_default(void);
 lc_status   lc_material_check(const lc_material *m, lc_error *err);
 
 /* ---- Shapes ---------------------------------------------------------------- */
@@ -199,7 +215,8 @@ typedef struct lc_scene lc_scene;
 typedef struct {
     lc_color background;  /* what a ray that hits nothing sees */
     lc_color ambient;     /* Ia: ka * C * Ia is added at every hit */
-    int      max_depth;   /* mirror bounces, >= 0; the seed used 3 */
+    int      max_depth;   /* bounces, >= 0: each reflection or refraction adds 1;
+                          ** the seed used 3 */
 } lc_settings;
 
 #define LC_MAX_DEPTH 1000000
@@ -223,8 +240,8 @@ int       lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t
                                   int material, lc_error *err);
 int       lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err);
 /* A copy scaled by `scale` about the origin and moved by `offset`, point-light
-** intensities times scale^2, the camera's aperture and focus times scale: an
-** exact renderer draws the same picture. */
+** intensities times scale^2, the camera's aperture and focus times scale,
+** materials' absorption over scale: an exact renderer draws the same picture. */
 lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 offset,
                                lc_error *err);
 size_t    lc_scene_shape_count(const lc_scene *s);     /* shapes and meshes */
@@ -266,12 +283,15 @@ enum {
                                  ** shadow rays unless the shadows switch is off */
     LC_NEED_EMITTER  = 1 << 1,   /* some shape emits and lights others */
     LC_NEED_SPECULAR = 1 << 2,   /* some material has ks > 0 and there are lights */
-    LC_NEED_REFLECT  = 1 << 3,   /* some material has kr > 0 and max_depth > 0 */
+    LC_NEED_REFLECT  = 1 << 3,   /* some material has kr or kt > 0, max_depth > 0 */
     LC_NEED_AMBIENT  = 1 << 4,   /* ambient light and some ka > 0 */
-    LC_NEED_GLOSSY   = 1 << 5,   /* some material has kr > 0 and a diffusion cone */
+    LC_NEED_GLOSSY   = 1 << 5,   /* some material has kr or kt > 0 and a cone */
     LC_NEED_AREA     = 1 << 6,   /* emissive shapes sampled as area lights */
     LC_NEED_LENS     = 1 << 7,   /* the camera has an aperture: depth of field */
-    LC_NEEDS         = 8         /* how many: bit k is 1 << k */
+    LC_NEED_REFRACT  = 1 << 8,   /* some material has kt > 0 and max_depth > 0 */
+    LC_NEED_FILTER   = 1 << 9,   /* shadow rays cross materials with kt > 0 and
+                                 ** shadow = filtered: no any-hit query for them */
+    LC_NEEDS         = 10        /* how many: bit k is 1 << k */
 };
 
 typedef enum {
@@ -280,7 +300,8 @@ typedef enum {
     LC_RAY_REFLECTION,   /* perfect mirror bounces */
     LC_RAY_GLOSSY,       /* bounces inside a diffusion cone */
     LC_RAY_LIGHT,        /* shadow rays toward sampled points of area lights */
-    LC_RAY_CUT,          /* reflections not traced: their weight fell below the cutoff */
+    LC_RAY_CUT,          /* bounces not traced: their weight fell below the cutoff */
+    LC_RAY_REFRACTION,   /* transmitted through a surface with kt > 0 */
     LC_RAY_KINDS
 } lc_ray_kind;
 
@@ -319,9 +340,10 @@ typedef struct {
     int      glossy;         /* 0: diffusion cones become perfect mirrors */
     int      threads;        /* 0 = one per core */
     int      cosine;         /* 0 drops the n.l factor (the seed's figure 7) */
-    double   cutoff;         /* a reflection whose weight (the product of kr, and of
-                             ** colours when absorb = all) is below this is not
-                             ** traced; 0 traces every bounce to max_depth */
+    double   cutoff;         /* a bounce whose weight (the product of kr, kt and
+                             ** Fresnel terms, of absorption, and of colours when
+                             ** absorb = all) is below this is not traced; 0 traces
+                             ** every bounce to max_depth */
     int      shadows;        /* 0: lights reach every point facing them, no shadow rays */
     int      reflections;    /* 0: no mirror reflection at all */
     int      specular;       /* 0: no Phong highlights */
@@ -355,7 +377,7 @@ typedef struct {
     size_t   bvh_nodes;          /* nodes of the hierarchy over bounded shapes */
     size_t   primitives;         /* shapes plus mesh triangles, as traced */
     size_t   degenerate;         /* zero-area triangles skipped */
-    uint64_t self_hits;          /* reflection rays that hit the surface they left:
+    uint64_t self_hits;          /* rays that hit the surface they left (not into it):
                                  ** 0 unless the geometry code has a bug */
     uint64_t prim_tests;         /* ray/primitive intersection tests */
     uint64_t node_tests;         /* ray/BVH node tests */
@@ -370,9 +392,9 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
 /* One ray of a pixel's ray tree (lc_scene_explain). */
 typedef struct {
     int          parent;        /* the ray this one leaves from; -1 for the camera ray */
-    lc_ray_kind  kind;          /* camera, reflection or shadow */
+    lc_ray_kind  kind;          /* camera, reflection, refraction, glossy, shadow... */
     lc_vec3      origin, direction;
-    int          hit;           /* camera and reflection rays: met a surface;
+    int          hit;           /* camera, reflection, refraction rays: met a surface;
                                 ** shadow rays: reached their light */
     double       distance;      /* to that surface, or to the light */
     lc_vec3      point, normal; /* the surface hit; normal faces the ray */

@@ -1,4 +1,6 @@
 /* lua_objects.c: materials, point lights and cameras (shapes: lua_shapes.c). */
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
 #include <lauxlib.h>
 #include <lua.h>
@@ -17,12 +19,86 @@ static void buf_color(luaL_Buffer *b, const char *name, lc_color c)
 /* ---- materials ------------------------------------------------------------ */
 
 static const char *const absorb_opts[] = {"all", "diffuse", NULL};
+static const char *const shadow_opts[] = {"filtered", "opaque", NULL};
+
+/* A colour at idx kept in double (absorption is a length's inverse, not a
+** float colour): {r, g, b} or one number for grey. */
+static int to_rgb(lua_State *L, int idx, lc_vec3 *v, char *why, size_t n)
+{
+    if (lua_type(L, idx) == LUA_TNUMBER) {
+        double g = lua_tonumber(L, idx);
+        if (!isfinite(g)) {
+            snprintf(why, n, "must be finite, got %g", g);
+            return 0;
+        }
+        v->x = v->y = v->z = g;
+        return 1;
+    }
+    if (lua_type(L, idx) != LUA_TTABLE) {
+        snprintf(why, n, "colour {r, g, b} or number expected, got %s",
+                 luaL_typename(L, idx));
+        return 0;
+    }
+    return lf_to_vec3(L, idx, v, why, n);
+}
+
+/* absorption = {r, g, b} per unit length, or transmittance = {colour, d}:
+** the share of each channel left after a distance d, as its absorption
+** -ln(colour) / d. One of the two, or neither (no absorption). */
+static lc_vec3 read_absorption(lua_State *L, lc_vec3 def)
+{
+    char why[200];
+    int both = lf_present(L, 1, "absorption") && lf_present(L, 1, "transmittance");
+    if (both)
+        lf_error(L, 1, "transmittance", "'absorption' is given too: give one of them");
+    if (lua_getfield(L, 1, "absorption") != LUA_TNIL) {
+        if (!to_rgb(L, -1, &def, why, sizeof why))
+            lf_error(L, 1, "absorption", "%s", why);
+    }
+    lua_pop(L, 1);
+    if (lua_getfield(L, 1, "transmittance") == LUA_TNIL) {
+        lua_pop(L, 1);
+        return def;
+    }
+    int t = lua_gettop(L);
+    if (lua_type(L, t) != LUA_TTABLE)
+        lf_error(L, 1, "transmittance", "{colour, distance} expected, got %s",
+                 luaL_typename(L, t));
+    if (luaL_len(L, t) != 2)
+        lf_error(L, 1, "transmittance", "{colour, distance} expected, got %lld entries",
+                 (long long)luaL_len(L, t));
+    lc_vec3 c;
+    lua_geti(L, t, 1);
+    if (!to_rgb(L, -1, &c, why, sizeof why))
+        lf_error(L, 1, "transmittance", "colour: %s", why);
+    lua_geti(L, t, 2);
+    if (lua_type(L, -1) != LUA_TNUMBER)
+        lf_error(L, 1, "transmittance", "distance: number expected, got %s",
+                 luaL_typename(L, -1));
+    double d = lua_tonumber(L, -1);
+    if (!(d > 0 && d <= LC_MAX_COORD))
+        lf_error(L, 1, "transmittance", "distance must be in (0, %g], got %g",
+                 LC_MAX_COORD, d);
+    double ch[3] = {c.x, c.y, c.z}, a[3];
+    for (int i = 0; i < 3; i++) {
+        if (!(ch[i] > 0 && ch[i] <= 1))
+            lf_error(L, 1, "transmittance",
+                     "colour component %d must be in (0, 1], got %g", i + 1, ch[i]);
+        a[i] = -log(ch[i]) / d;
+        if (a[i] == 0)
+            a[i] = 0;                   /* -log(1) is -0 */
+    }
+    lua_settop(L, t - 1);
+    lc_vec3 r = {a[0], a[1], a[2]};
+    return r;
+}
 
 static int w_material(lua_State *L)
 {
     static const char *const known[] = {"color", "ka", "kd", "kr", "ks", "alpha",
                                         "emission", "absorb", "glossiness",
-                                        "cone_samples", NULL};
+                                        "cone_samples", "kt", "ior", "fresnel",
+                                        "absorption", "transmittance", "shadow", NULL};
     lf_open(L, 1, known);
     lc_material m = lc_material_default();
     m.color = lf_color(L, 1, "color", 0, m.color);
@@ -35,6 +111,11 @@ static int w_material(lua_State *L)
     m.absorb = (lc_absorb)lf_option(L, 1, "absorb", absorb_opts, (int)m.absorb);
     m.glossiness = lf_number(L, 1, "glossiness", 0, m.glossiness);
     m.cone_samples = lf_integer(L, 1, "cone_samples", 0, m.cone_samples);
+    m.kt = lf_number(L, 1, "kt", 0, m.kt);
+    m.ior = lf_number(L, 1, "ior", 0, m.ior);
+    m.fresnel = lf_boolean(L, 1, "fresnel", m.fresnel);
+    m.absorption = read_absorption(L, m.absorption);
+    m.shadow = (lc_shadow_mode)lf_option(L, 1, "shadow", shadow_opts, (int)m.shadow);
     lc_error err;
     if (lc_material_check(&m, &err))
         return lf_raise(L, 1, &err);
@@ -63,7 +144,29 @@ static int w_material_tostring(lua_State *L)
     buf_color(&b, "emission", m->emission);
     luaL_addstring(&b, ", absorb = '");
     luaL_addstring(&b, absorb_opts[m->absorb]);
-    luaL_addstring(&b, "'}");
+    luaL_addstring(&b, "'");
+    /* The dielectric's fields where they are not the defaults: an opaque
+    ** material prints as it always did. */
+    if (m->kt != 0) {
+        luaL_addstring(&b, ", kt = ");
+        lf_add_number(&b, m->kt);
+    }
+    if (m->ior != 1) {
+        luaL_addstring(&b, ", ior = ");
+        lf_add_number(&b, m->ior);
+    }
+    if (!m->fresnel)
+        luaL_addstring(&b, ", fresnel = false");
+    if (m->absorption.x != 0 || m->absorption.y != 0 || m->absorption.z != 0) {
+        luaL_addstring(&b, ", ");
+        lf_add_vec3(&b, "absorption", m->absorption);
+    }
+    if (m->shadow != LC_SHADOW_FILTERED) {
+        luaL_addstring(&b, ", shadow = '");
+        luaL_addstring(&b, shadow_opts[m->shadow]);
+        luaL_addstring(&b, "'");
+    }
+    luaL_addstring(&b, "}");
     luaL_pushresult(&b);
     return 1;
 }
@@ -82,6 +185,11 @@ static int w_material_index(lua_State *L)
     else if (strcmp(k, "glossiness") == 0) lua_pushnumber(L, m->glossiness);
     else if (strcmp(k, "cone_samples") == 0) lua_pushinteger(L, m->cone_samples);
     else if (strcmp(k, "absorb") == 0) lua_pushstring(L, absorb_opts[m->absorb]);
+    else if (strcmp(k, "kt") == 0) lua_pushnumber(L, m->kt);
+    else if (strcmp(k, "ior") == 0) lua_pushnumber(L, m->ior);
+    else if (strcmp(k, "fresnel") == 0) lua_pushboolean(L, m->fresnel);
+    else if (strcmp(k, "absorption") == 0) lf_push_vec3(L, m->absorption);
+    else if (strcmp(k, "shadow") == 0) lua_pushstring(L, shadow_opts[m->shadow]);
     else lua_pushnil(L);
     return 1;
 }

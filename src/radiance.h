@@ -14,6 +14,12 @@ typedef struct { double r, g, b; } radiance;
 #define RADIANCE_CAP 1e100
 
 static inline double radiance_cap(double x) { return x < RADIANCE_CAP ? x : RADIANCE_CAP; }
+/* The largest channel (of channels that are not NaN). */
+static inline double r_max(radiance c)
+{
+    double gb = c.g > c.b ? c.g : c.b;
+    return c.r > gb ? c.r : gb;
+}
 static inline radiance rad(lc_color c) { radiance r = {c.r, c.g, c.b}; return r; }
 static inline radiance r_scale(radiance a, double k)
 {

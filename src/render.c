@@ -18,7 +18,8 @@
 #define TILE 16
 
 static const char *const ray_names[LC_RAY_KINDS] = {"camera", "shadow", "reflection",
-                                                     "glossy", "light", "cut"};
+                                                     "glossy", "light", "cut",
+                                                     "refraction"};
 
 const char *lc_ray_kind_name(lc_ray_kind k)
 {
@@ -36,6 +37,8 @@ const char *lc_need_name(unsigned need)
     case LC_NEED_GLOSSY: return "glossy";
     case LC_NEED_AREA: return "area";
     case LC_NEED_LENS: return "lens";
+    case LC_NEED_REFRACT: return "refract";
+    case LC_NEED_FILTER: return "filter";
     default: return "?";
     }
 }
@@ -174,6 +177,7 @@ static lc_status explain_locked(lc_scene *s, const lc_render_options *o, int x, 
     t.log = &log;
     t.ps = sample_pixel(o->sampler, o->seed, o->frame, (uint64_t)y * o->width + x);
     camera_sample(&j, &t, x, y, (uint32_t)sample, (uint32_t)o->samples);
+    explain_finish(&log);
     explain_free(&log);
     if (log.failed) {
         free(log.r);               /* explain records are plain malloc: the caller frees */

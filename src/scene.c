@@ -282,9 +282,13 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
         if (lc_scene_set_camera(c, &cam, err))
             goto fail;
     }
-    for (size_t i = 0; i < s->nmaterials; i++)
-        if (lc_scene_add_material(c, &s->materials[i], err) < 0)
+    for (size_t i = 0; i < s->nmaterials; i++) {
+        lc_material m = s->materials[i];
+        /* Per unit length: the same e^(-absorption d) over lengths d * scale. */
+        m.absorption = v3_mul(m.absorption, 1 / scale);
+        if (lc_scene_add_material(c, &m, err) < 0)
             goto fail;
+    }
     for (int k = 0; k < LC_SHAPE_KINDS; k++) {
         const shape_list *l = &s->shapes[k];
         for (size_t i = 0; i < l->n; i++) {

@@ -79,10 +79,12 @@ struct lc_scene {
 enum {
     PLAN_LIGHTS   = 1 << 0,   /* kd or ks > 0: the light loops */
     PLAN_SPECULAR = 1 << 1,   /* ks > 0 and specular on */
-    PLAN_REFLECT  = 1 << 2,   /* kr > 0 and reflections on */
+    PLAN_REFLECT  = 1 << 2,   /* kr or kt > 0 and reflections on */
     PLAN_AMBIENT  = 1 << 3,   /* ka > 0 and an ambient light */
     PLAN_EMITS    = 1 << 4,   /* emission > 0 */
-    PLAN_GLOSSY   = 1 << 5    /* kr > 0 through a diffusion cone, and cones on */
+    PLAN_GLOSSY   = 1 << 5,   /* kr or kt > 0 through a diffusion cone, and cones on */
+    PLAN_REFRACT  = 1 << 6,   /* kt > 0 and max_depth > 0: a dielectric, a medium */
+    PLAN_FILTER   = 1 << 7    /* kt > 0 and shadow = filtered: shadow rays cross it */
 };
 
 /* o: the render's switches, or NULL for the defaults; a BVH build stops

@@ -1,6 +1,8 @@
-/* shade.c: the seed's shading model (Phong with recursive mirrors) along a
-** path: the mirror loop and the glossy split. The light loops are in
-** shade_lights.h, explain's recorder in explain.c. */
+/* shade.c: the seed's shading model (Phong with recursive mirrors) and
+** dielectrics along a path: the loop over bounces, the branches a
+** dielectric leaves it, the glossy split. The light loops are in
+** shade_lights.h, explain's recorder in explain.c, the media in media.h. */
+#include "dielectric.h"
 #include "shade.h"
 #include "shade_lights.h"
 
@@ -12,8 +14,6 @@ typedef struct {
     uint32_t from, from_instance;  /* the primitive the first ray left ... */
     int      watch;                /* ... which it cannot meet again */
 } path;
-
-static double max3(radiance c) { return max2(c.r, max2(c.g, c.b)); }
 
 /* A ray that left primitive `from` away from its inside (or off a flat one)
 ** cannot meet it again: if it does, the spawn offset failed. */
@@ -49,14 +49,15 @@ static double cone_sample(tracer *t, const lc_material *m, lc_vec3 a, lc_vec3 n,
 }
 
 static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radiance w,
-                           int rec);
+                           int rec, const media *md);
 
 /* The seed's diffusion cone, done right: M rays over the cone, stratified
 ** over all the pixel's cone rays, each weighted by its cosine with the
 ** normal, weights normalised to sum to 1 (as in the seed). Returns what the
 ** M sub-paths bring back, weighted by w. */
 static radiance glossy_split(tracer *t, const hit *h, const lc_material *m, lc_vec3 n,
-                             lc_vec3 axis, const path *pa, radiance w, int rec)
+                             lc_vec3 axis, const path *pa, radiance w, int rec,
+                             const media *md)
 {
     uint32_t M = cone_count(t, m), count = sample_nested_count(pa->count, M);
     radiance acc = {0, 0, 0};
@@ -76,7 +77,7 @@ static radiance glossy_split(tracer *t, const hit *h, const lc_material *m, lc_v
         t->rays[LC_RAY_GLOSSY]++;
         int sub = rec >= 0 ? explain_ray(t->log, rec, LC_RAY_GLOSSY, &r) : -1;
         path next = {idx, count, pa->depth + 1, h->shape, h->instance, cannot_return(h, d)};
-        acc = r_add(acc, trace_path(t, &r, next, 1, r_scale(w, c / total), sub));
+        acc = r_add(acc, trace_path(t, &r, next, 1, r_scale(w, c / total), sub, md));
     }
     return acc;
 }
@@ -85,52 +86,198 @@ radiance shade_ray(tracer *t, const ray *r0, uint32_t index, uint32_t count)
 {
     path pa = {index, count, 0, 0, 0, 0};
     radiance one = {1, 1, 1};
+    static const media air;     /* a camera is in air */
     int rec = t->log ? explain_ray(t->log, -1, LC_RAY_CAMERA, r0) : -1;
-    return trace_path(t, r0, pa, 0, one, rec);
+    return trace_path(t, r0, pa, 0, one, rec, &air);
 }
 
-/* One path: a loop over mirror bounces (and single cone rays once the path
-** has split), so any max_depth costs no stack; the first glossy hit splits
-** into M sub-paths, each a call of this (which never splits again: cost is
-** linear in M, not M^depth). Each bounce adds its own light times the
-** product of the reflection weights before it; for absorb = 'all' (the
-** seed) the weight includes the colour: colour * (... + kr * Cr) expands to
-** that. w: the path's weight in the pixel; rec: its first ray's explain
-** record (-1 while rendering). */
-static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radiance w,
-                           int rec)
+/* Room for a branch to wait in t->pending; NULL, counted as cut, when it
+** is full (see BRANCH_MAX: never in practice). */
+static branch *branch_wait(tracer *t)
+{
+    if (t->npending == BRANCH_MAX) {
+        t->rays[LC_RAY_CUT]++;
+        return NULL;
+    }
+    return &t->pending[t->npending++];
+}
+
+/* The ray that goes on from hit h along unit d, kind `kind`, of weight w,
+** from depth `depth`, in media md; recorded from explain record rec. */
+static void branch_set(tracer *t, branch *b, const hit *h, lc_vec3 d, radiance w,
+                       int depth, const media *md, lc_ray_kind kind, int rec)
+{
+    b->r.o = spawn_origin(h, d);
+    b->r.d = d;
+    b->w = w;
+    b->depth = depth;
+    b->watch = cannot_return(h, d);
+    b->from = h->shape;
+    b->from_instance = h->instance;
+    b->md = *md;
+    t->rays[kind]++;
+    b->rec = rec >= 0 ? explain_ray(t->log, rec, kind, &b->r) : -1;
+}
+
+/* A hit on a surface of a material with kt > 0, after its own light was
+** added: what follows, between the indices n1 and n2 of the media either
+** side. Fresnel (fresnel = true) reflects kr + kt F and refracts kt (1 - F),
+** F the exact unpolarised reflectance; the seed's fixed kr and kt without
+** it; past the critical angle F = 1, all of it reflected. Each weighs the
+** path's w (times the colour when absorb = 'all'). The loop goes on with
+** the heavier, returned in *go; the other waits in t->pending. A branch of
+** weight 0 is not traced, one under the cutoff is counted as cut, and a
+** first glossy hit splits its reflection into cone rays (what they bring
+** is in *add). Returns 0 when the path ends here. Out of the loop: glass
+** code there cost opaque scenes registers. */
+NEVER_INLINE int dielectric_bounce(tracer *t, const hit *h, const lc_material *m,
+                                   unsigned plan, const ray *r, lc_vec3 n, radiance w,
+                                   const path *pa, int split, int rec, const media *md,
+                                   radiance *add, branch *go)
+{
+    media past;
+    double n1 = 1, n2 = 1;
+    media_cross(t->scene, md, (uint32_t)h->material, v3_dot(r->d, h->n) < 0, &past, &n1,
+                &n2);
+    radiance tint = m->absorb == LC_ABSORB_ALL ? r_mul(w, rad(m->color)) : w;
+    double eta = n2 / n1;
+    lc_vec3 td;
+    int through = dielectric_refract(r->d, n, eta, &td);
+    double F = !through ? 1 : m->fresnel ? dielectric_fresnel(-v3_dot(r->d, n), eta) : 0;
+    radiance wr = r_scale(tint, m->kr + m->kt * F), wt = {0, 0, 0};
+    /* An interpolated normal can bend it back to the side it came from. */
+    if (through && v3_dot(td, h->n) * v3_dot(r->d, h->n) > 0)
+        wt = r_scale(tint, m->kt * (1 - F));
+    int refract = r_max(wt) > 0, reflect = (plan & (PLAN_REFLECT | PLAN_GLOSSY)) &&
+                                           r_max(wr) > 0;
+    if (refract && r_max(wt) < t->cutoff) {
+        t->rays[LC_RAY_CUT]++;
+        refract = 0;
+    }
+    if (reflect && r_max(wr) < t->cutoff) {
+        t->rays[LC_RAY_CUT]++;
+        reflect = 0;
+    }
+    lc_vec3 rd = v3_madd(r->d, n, -2 * v3_dot(r->d, n));
+    lc_ray_kind kind = LC_RAY_REFLECTION;
+    if (reflect && (plan & PLAN_GLOSSY)) {
+        lc_vec3 axis = v3_norm(rd);
+        if (!split) {
+            *add = glossy_split(t, h, m, n, axis, pa, wr, rec, md);
+            reflect = 0;
+        } else {
+            double c = cone_sample(t, m, axis, n, pa->depth, pa->index, pa->count, &rd);
+            if (c > 0)
+                kind = LC_RAY_GLOSSY;
+            else
+                reflect = 0;
+        }
+    }
+    if (reflect && refract && r_max(wt) > r_max(wr)) {
+        branch *wait = branch_wait(t);     /* the reflection waits */
+        if (wait)
+            branch_set(t, wait, h, v3_norm(rd), wr, pa->depth + 1, md, kind, rec);
+        reflect = 0;
+    }
+    if (refract && reflect) {
+        branch *wait = branch_wait(t);     /* the refraction waits */
+        if (wait)
+            branch_set(t, wait, h, td, wt, pa->depth + 1, &past, LC_RAY_REFRACTION, rec);
+        refract = 0;
+    }
+    if (refract)
+        branch_set(t, go, h, td, wt, pa->depth + 1, &past, LC_RAY_REFRACTION, rec);
+    else if (reflect)
+        branch_set(t, go, h, v3_norm(rd), wr, pa->depth + 1, md, kind, rec);
+    return refract || reflect;
+}
+
+/* A surface between a medium and itself: a sphere inside one of the same
+** glass, the far wall of an overlap. Out of the loop, as above. */
+NEVER_INLINE int no_interface(const lc_scene *s, const media *md, const hit *h,
+                              const ray *r, media *past)
+{
+    double n1, n2;
+    return !media_cross(s, md, (uint32_t)h->material, v3_dot(r->d, h->n) < 0, past, &n1,
+                        &n2);
+}
+
+/* One path: a loop over bounces, so any max_depth costs no stack. Mirror
+** bounces go on in the loop (and single cone rays once the path has split);
+** the first glossy hit splits into M sub-paths, each a call of this (which
+** never splits again: cost is linear in M, not M^depth). A dielectric
+** gives two rays: the loop follows the heavier and keeps the other in
+** t->pending, traced when the loop's path ends, so the tree costs one ray
+** per branch and max_depth and cutoff bound every branch of it. Each
+** bounce adds its own light times the product of the weights before it;
+** for absorb = 'all' (the seed) the weight includes the colour: colour *
+** (... + kr * Cr) expands to that. w: the path's weight in the pixel; rec:
+** its first ray's explain record (-1 while rendering); md: the media its
+** first ray is in. Compiled three ways (glass and log are constants, see
+** trace_path): a scene without glass runs none of the glass code, a render
+** none of explain's, not even their tests. */
+ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
+                                  radiance w, int rec, const media *md0, int glass,
+                                  int log)
 {
     const lc_scene *s = t->scene;
     ray r = *r0;
     radiance acc = {0, 0, 0};
     uint32_t from = pa.from, from_instance = pa.from_instance;
     int watch = pa.watch;      /* the last spawn cannot return to `from` */
-    int first = rec;
+    int mine = t->npending;    /* the branches under it are the caller's */
+    media md = *md0;
+    const branch *b;           /* the branch the loop goes on with */
+    branch go;
     for (;;) {
         hit h;
         if (!intersect_closest(s, &r, HUGE_VAL, &h, &t->counts)) {
-            if (rec >= 0)
-                explain_hit(t->log, s, rec, NULL, r.d, w, acc);
-            acc = r_add(acc, r_mul(w, rad(s->settings.background)));
-            break;
+            if (glass && md.n) /* inside a medium: nothing comes from infinity */
+                w = media_absorb(s, &md, w, HUGE_VAL);
+            radiance bg = r_mul(w, rad(s->settings.background));
+            if (log && rec >= 0) {
+                explain_hit(t->log, s, rec, NULL, r.d, w);
+                explain_add(t->log, rec, bg);
+            }
+            acc = r_add(acc, bg);
+            goto done;
         }
+        if (glass && md.n)     /* inside a medium: what it absorbs on the way */
+            w = media_absorb(s, &md, w, h.t);
         if (watch && h.shape == from && h.instance == from_instance)
             t->self_hits++;
         const lc_material *m = &s->materials[h.material];
         unsigned plan = t->plan[h.material];
         lc_vec3 n = v3_dot(h.n, r.d) > 0 ? v3_neg(h.ns) : h.ns;  /* face the viewer */
         lc_vec3 v = v3_neg(r.d);
-        if (rec >= 0)
-            explain_hit(t->log, s, rec, &h, n, w, acc);
+        if (glass && (plan & PLAN_REFRACT) && !md.n && v3_dot(r.d, h.n) > 0)
+            w = media_adopt(s, &md, (uint32_t)h.material, w, h.t);
+        if (glass && (plan & PLAN_REFRACT) && no_interface(s, &md, &h, &r, &go.md)) {
+            /* No surface here, no bounce: the ray goes on at its depth. */
+            if (log && rec >= 0)
+                explain_hit(t->log, s, rec, &h, n, w);
+            branch_set(t, &go, &h, r.d, w, pa.depth, &go.md, LC_RAY_REFRACTION, rec);
+            b = &go;
+            goto follow;
+        }
+        if (log && rec >= 0)
+            explain_hit(t->log, s, rec, &h, n, w);
 
         light_sum sum = {{0, 0, 0}, {0, 0, 0}};
         if (plan & PLAN_LIGHTS) {
-            if (t->needs & LC_NEED_SHADOW)
-                point_lights(t, &h, m, plan, n, v, &sum);
-            if (t->needs & LC_NEED_EMITTER)
-                emitters(t, &h, m, plan, n, v, &sum);
-            if (t->needs & LC_NEED_AREA)
-                area_lights(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth, &sum);
+            if (t->needs & LC_NEED_FILTER) {
+                t->media = &md;
+                lights_filtered(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth,
+                                &sum);
+            } else {
+                if (t->needs & LC_NEED_SHADOW)
+                    point_lights(t, &h, m, plan, n, v, &sum, 0);
+                if (t->needs & LC_NEED_EMITTER)
+                    emitters(t, &h, m, plan, n, v, &sum, 0);
+                if (t->needs & LC_NEED_AREA)
+                    area_lights(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth,
+                                &sum, 0);
+            }
         }
 
         radiance base = r_scale(sum.diffuse, m->kd);             /* kd Cd */
@@ -147,26 +294,40 @@ static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radianc
         }
         if (plan & PLAN_EMITS)
             local = r_add(local, rad(m->emission));
-        acc = r_add(acc, r_mul(w, local));
-        if (!(plan & (PLAN_REFLECT | PLAN_GLOSSY)) || pa.depth >= t->max_depth)
-            break;
+        radiance own = r_mul(w, local);
+        if (log && rec >= 0)
+            explain_add(t->log, rec, own);
+        acc = r_add(acc, own);
+        if (!(plan & (PLAN_REFLECT | PLAN_GLOSSY | (glass ? PLAN_REFRACT : 0))) ||
+            pa.depth >= t->max_depth)
+            goto done;
+        if (glass && (plan & PLAN_REFRACT)) {
+            radiance add = {0, 0, 0};
+            int on = dielectric_bounce(t, &h, m, plan, &r, n, w, &pa, split, rec, &md,
+                                       &add, &go);
+            acc = r_add(acc, add);
+            if (!on)
+                goto done;
+            b = &go;
+            goto follow;
+        }
         /* Adaptive depth (POV-Ray's adc_bailout): a bounce that can add at
         ** most cutoff times what it sees is not traced. */
-        if (max3(next) < t->cutoff) {
+        if (r_max(next) < t->cutoff) {
             t->rays[LC_RAY_CUT]++;
-            break;
+            goto done;
         }
         lc_vec3 rd = v3_madd(r.d, n, -2 * v3_dot(r.d, n));       /* kr Cr */
         lc_ray_kind kind = LC_RAY_REFLECTION;
         if (plan & PLAN_GLOSSY) {
             lc_vec3 axis = v3_norm(rd);
             if (!split) {
-                acc = r_add(acc, glossy_split(t, &h, m, n, axis, &pa, next, rec));
-                break;
+                acc = r_add(acc, glossy_split(t, &h, m, n, axis, &pa, next, rec, &md));
+                goto done;
             }
             /* After the split, one cone ray per bounce, at the path's own place. */
             if (!(cone_sample(t, m, axis, n, pa.depth, pa.index, pa.count, &rd) > 0))
-                break;
+                goto done;
             kind = LC_RAY_GLOSSY;
         }
         r.o = spawn_origin(&h, rd);
@@ -177,10 +338,50 @@ static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radianc
         watch = cannot_return(&h, rd);
         w = next;
         pa.depth++;
-        if (rec >= 0)
+        if (log && rec >= 0)
             rec = explain_ray(t->log, rec, kind, &r);
+        continue;
+    done:
+        if (!glass || t->npending == mine)
+            break;
+        b = &t->pending[--t->npending];
+    follow:
+        r = b->r;
+        w = b->w;
+        pa.depth = b->depth;
+        watch = b->watch;
+        rec = b->rec;
+        from = b->from;
+        from_instance = b->from_instance;
+        md = b->md;
     }
-    if (first >= 0)
-        explain_path(t->log, first, rec, acc);
     return acc;
+}
+
+static radiance trace_opaque(tracer *t, const ray *r0, path pa, int split, radiance w,
+                             int rec, const media *md)
+{
+    return trace_loop(t, r0, pa, split, w, rec, md, 0, 0);
+}
+
+static radiance trace_glass(tracer *t, const ray *r0, path pa, int split, radiance w,
+                            int rec, const media *md)
+{
+    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0);
+}
+
+static radiance trace_explain(tracer *t, const ray *r0, path pa, int split, radiance w,
+                              int rec, const media *md)
+{
+    return trace_loop(t, r0, pa, split, w, rec, md, 1, 1);
+}
+
+static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radiance w,
+                           int rec, const media *md)
+{
+    if (t->log)
+        return trace_explain(t, r0, pa, split, w, rec, md);
+    if (t->needs & LC_NEED_REFRACT)
+        return trace_glass(t, r0, pa, split, w, rec, md);
+    return trace_opaque(t, r0, pa, split, w, rec, md);
 }

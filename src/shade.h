@@ -3,9 +3,25 @@
 #define LC_SHADE_H
 
 #include "explain.h"
+#include "media.h"
 #include "radiance.h"
 #include "sample.h"
 #include "scene.h"
+
+/* A branch a path put aside to trace later: at a dielectric it follows the
+** heavier of reflection and refraction and keeps the other here. */
+typedef struct {
+    ray      r;
+    radiance w;
+    int      depth, watch, rec;
+    uint32_t from, from_instance;
+    media    md;
+} branch;
+
+/* Branches waiting at once, per tracer. Each comes from a split at its own
+** depth along the path being traced, weighing at least cutoff: more than
+** this many means 2^64 rays in the tree, never traced in a lifetime. */
+#define BRANCH_MAX 64
 
 typedef struct {
     const lc_scene *scene;
@@ -23,6 +39,9 @@ typedef struct {
     uint64_t rays[LC_RAY_KINDS];   /* this thread's counts */
     uint64_t self_hits;
     uint64_t samples;          /* camera samples traced */
+    const media *media;        /* the media of the point being lit (filtered shadows) */
+    int      npending;
+    branch   pending[BRANCH_MAX];
 } tracer;
 
 /* The radiance camera sample `index` of `count` of the pixel brings back. */

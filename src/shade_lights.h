@@ -6,6 +6,7 @@
 #ifndef LC_SHADE_LIGHTS_H
 #define LC_SHADE_LIGHTS_H
 
+#include "dielectric.h"
 #include "shade.h"
 
 typedef struct {
@@ -33,20 +34,87 @@ static void add_light(const tracer *t, const lc_material *m, unsigned plan, lc_v
         explain_light(t->log, rec, m, d, sp);
 }
 
+/* What a shadow ray keeps crossing a surface of m between the indices n1
+** and n2 at cosine c with it: kt (1 - F), times the colour when absorb =
+** 'all', as a refracted ray would. The shadow ray is not bent, so F is the
+** Fresnel reflectance of light entering the denser side at that angle:
+** along a straight chord both ends then take the same share, and none is
+** lost to a total internal reflection the bent ray would not meet. */
+static radiance shadow_crossing(const lc_material *m, double n1, double n2, double c)
+{
+    double F = m->fresnel ? dielectric_fresnel(c, n2 > n1 ? n2 / n1 : n1 / n2) : 0;
+    double k = m->kt * (1 - F);
+    radiance r = {k, k, k};
+    return m->absorb == LC_ABSORB_ALL ? r_scale(rad(m->color), k) : r;
+}
+
+/* A shadow ray through materials with kt > 0 and shadow = 'filtered'
+** (LC_NEED_FILTER; POV-Ray's look): it goes on straight through each, times
+** the surface's transmission at every crossing and the medium's absorption
+** in between; anything else blocks it. From sr.o along sr.d as far as
+** reach; aim, skip as in shadow_ray. Returns 0 when blocked, else 1 with
+** what gets through in *f. */
+static int shadow_filter(tracer *t, ray sr, double reach, int aim, uint32_t skip,
+                         radiance *f)
+{
+    const lc_scene *s = t->scene;
+    media md = *t->media;
+    radiance k = {1, 1, 1};
+    lc_vec3 o0 = sr.o;
+    for (;;) {
+        double left = reach - v3_dot(v3_sub(sr.o, o0), sr.d);
+        hit b;
+        if (!intersect_closest(s, &sr, shadow_reach(sr.o, left), &b, &t->counts)) {
+            if (md.n)
+                k = media_absorb(s, &md, k, left);
+            break;
+        }
+        if (b.shape == skip && aim) {           /* the emitter itself: reached */
+            if (md.n)
+                k = media_absorb(s, &md, k, b.t);
+            break;
+        }
+        if (b.shape != skip) {                  /* a sampled emitter is not there */
+            if (!(t->plan[b.material] & PLAN_FILTER))
+                return 0;
+            if (md.n)
+                k = media_absorb(s, &md, k, b.t);
+            else if (v3_dot(sr.d, b.n) > 0)
+                k = media_adopt(s, &md, (uint32_t)b.material, k, b.t);
+            media past;
+            double n1, n2;
+            if (media_cross(s, &md, (uint32_t)b.material, v3_dot(sr.d, b.n) < 0, &past,
+                            &n1, &n2))
+                k = r_mul(k, shadow_crossing(&s->materials[b.material], n1, n2,
+                                             fabs(v3_dot(sr.d, b.ns))));
+            md = past;
+            if (!(r_max(k) > 0))
+                return 0;
+        }
+        sr.o = spawn_origin(&b, sr.d);
+    }
+    *f = k;
+    return 1;
+}
+
 /* One shadow ray toward a light `reach` away along l: spawned off h,
 ** counted as `kind`, recorded while explaining (as light `light`), then
 ** tested for anything in the way before it stops at shadow_reach.
 ** aim: the seed's emitters, whose ray goes from the spawned origin straight
 ** at *aim, and is blocked only when something nearer than the emitter
 ** `skip` itself is hit; otherwise any hit on a primitive but `skip` blocks
-** it. Returns 1 when the light is visible; *rec is its explain record. */
+** it. Returns 1 when the light is visible; *rec is its explain record;
+** with filter (LC_NEED_FILTER), *f what reaches the point of the light's
+** colour. */
 ALWAYS_INLINE int shadow_ray(tracer *t, const hit *h, lc_vec3 l, double reach,
                            const lc_vec3 *aim, lc_ray_kind kind, int light,
-                           uint32_t skip, int *rec)
+                           uint32_t skip, int *rec, int filter, radiance *f)
 {
     *rec = -1;
-    if (!t->shadows)
+    if (!t->shadows) {
+        f->r = f->g = f->b = 1;
         return 1;
+    }
     ray sr = {spawn_origin(h, l), l};
     if (aim) {
         lc_vec3 so = v3_sub(*aim, sr.o);
@@ -58,7 +126,9 @@ ALWAYS_INLINE int shadow_ray(tracer *t, const hit *h, lc_vec3 l, double reach,
         *rec = explain_shadow(t->log, kind, &sr, light, reach);
     double tmax = shadow_reach(sr.o, reach);
     int blocked;
-    if (aim) {
+    if (filter) {
+        blocked = !shadow_filter(t, sr, reach, aim != NULL, skip, f);
+    } else if (aim) {
         hit blk;
         blocked = intersect_closest(t->scene, &sr, tmax, &blk, &t->counts) &&
                   blk.shape != skip;
@@ -70,8 +140,11 @@ ALWAYS_INLINE int shadow_ray(tracer *t, const hit *h, lc_vec3 l, double reach,
     return !blocked;
 }
 
-static void point_lights(tracer *t, const hit *h, const lc_material *m, unsigned plan,
-                         lc_vec3 n, lc_vec3 v, light_sum *sum)
+/* Each light loop takes `filter` as a constant (LC_NEED_FILTER): the loops
+** opaque scenes run have no trace of the filtered shadows. */
+ALWAYS_INLINE void point_lights(tracer *t, const hit *h, const lc_material *m,
+                                unsigned plan, lc_vec3 n, lc_vec3 v, light_sum *sum,
+                                int filter)
 {
     const lc_scene *s = t->scene;
     double tooclose2 = 16 * v3_dot(h->perr, h->perr);
@@ -90,13 +163,17 @@ static void point_lights(tracer *t, const hit *h, const lc_material *m, unsigned
         ** ulps of |p|, inside what shadow_reach leaves, so the ray still
         ** stops short of L. */
         int rec;
-        if (!shadow_ray(t, h, l, d, NULL, LC_RAY_SHADOW, (int)i, INTERSECT_SKIP_NONE, &rec))
+        radiance f;
+        if (!shadow_ray(t, h, l, d, NULL, LC_RAY_SHADOW, (int)i, INTERSECT_SKIP_NONE,
+                        &rec, filter, &f))
             continue;
         double k = L->intensity;
         if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)
             k /= d * d;
-        add_light(t, m, plan, n, v, l, cosl, r_scale(rad(L->color), radiance_cap(k)), sum,
-                  rec);
+        radiance lc = r_scale(rad(L->color), radiance_cap(k));
+        if (filter)
+            lc = r_mul(lc, f);
+        add_light(t, m, plan, n, v, l, cosl, lc, sum, rec);
     }
 }
 
@@ -104,8 +181,8 @@ static void point_lights(tracer *t, const hit *h, const lc_material *m, unsigned
 ** meets the shape itself (or nothing) first. The light colour is E/(pi cos),
 ** E the irradiance of the whole shape seen from the point: exact for a
 ** sphere (pi L (r/d)^2 cos), projected area over d^2 for quads and boxes. */
-static void emitters(tracer *t, const hit *h, const lc_material *m, unsigned plan,
-                     lc_vec3 n, lc_vec3 v, light_sum *sum)
+ALWAYS_INLINE void emitters(tracer *t, const hit *h, const lc_material *m, unsigned plan,
+                            lc_vec3 n, lc_vec3 v, light_sum *sum, int filter)
 {
     const lc_scene *s = t->scene;
     double tooclose = 4 * v3_len(h->perr);
@@ -122,12 +199,17 @@ static void emitters(tracer *t, const hit *h, const lc_material *m, unsigned pla
         if (!(cosl > 0))
             continue;
         int rec;
-        if (!shadow_ray(t, h, l, d, &e->target, LC_RAY_SHADOW, -1 - (int)i, e->prim, &rec))
+        radiance f;
+        if (!shadow_ray(t, h, l, d, &e->target, LC_RAY_SHADOW, -1 - (int)i, e->prim,
+                        &rec, filter, &f))
             continue;
         double k = shape_light_centre(e->kind, shape_at(&s->shapes[e->kind], e->index), l, d);
         if (k > 1)                  /* no shape gives more than its radiance */
             k = 1;
-        add_light(t, m, plan, n, v, l, cosl, r_scale(rad(e->emission), k), sum, rec);
+        radiance lc = r_scale(rad(e->emission), k);
+        if (filter)
+            lc = r_mul(lc, f);
+        add_light(t, m, plan, n, v, l, cosl, lc, sum, rec);
     }
 }
 
@@ -137,9 +219,9 @@ static void emitters(tracer *t, const hit *h, const lc_material *m, unsigned pla
 ** cone they subtend), quads and boxes by area. Each sample adds
 ** L * cos / (pi pdf S), so that the sum is E / pi, the same convention as
 ** the centre-ray model (exact for an unshadowed sphere). */
-static void area_lights(tracer *t, const hit *h, const lc_material *m, unsigned plan,
-                        lc_vec3 n, lc_vec3 v, uint32_t index, uint32_t count, int depth,
-                        light_sum *sum)
+ALWAYS_INLINE void area_lights(tracer *t, const hit *h, const lc_material *m,
+                               unsigned plan, lc_vec3 n, lc_vec3 v, uint32_t index,
+                               uint32_t count, int depth, light_sum *sum, int filter)
 {
     const lc_scene *s = t->scene;
     uint32_t S = (uint32_t)t->light_samples, all = sample_nested_count(count, S);
@@ -167,13 +249,30 @@ static void area_lights(tracer *t, const hit *h, const lc_material *m, unsigned 
             ** shadow the point sampled on it: at 1e7 from the origin the
             ** rounding is as large as any relative shortening, H2). */
             int rec;
+            radiance f;
             if (!shadow_ray(t, h, ls1.l, ls1.dist, NULL, LC_RAY_LIGHT, -1 - (int)i, e->prim,
-                            &rec))
+                            &rec, filter, &f))
                 continue;
-            add_light(t, m, plan, n, v, ls1.l, cosl,
-                      r_scale(rad(e->emission), radiance_cap(ls1.k)), sum, rec);
+            radiance lc = r_scale(rad(e->emission), radiance_cap(ls1.k));
+            if (filter)
+                lc = r_mul(lc, f);
+            add_light(t, m, plan, n, v, ls1.l, cosl, lc, sum, rec);
         }
     }
+}
+
+/* Every light loop at a hit whose shadow rays go through glass: apart, so
+** the loops of opaque scenes stay as they were. */
+NEVER_INLINE void lights_filtered(tracer *t, const hit *h, const lc_material *m,
+                                  unsigned plan, lc_vec3 n, lc_vec3 v, uint32_t index,
+                                  uint32_t count, int depth, light_sum *sum)
+{
+    if (t->needs & LC_NEED_SHADOW)
+        point_lights(t, h, m, plan, n, v, sum, 1);
+    if (t->needs & LC_NEED_EMITTER)
+        emitters(t, h, m, plan, n, v, sum, 1);
+    if (t->needs & LC_NEED_AREA)
+        area_lights(t, h, m, plan, n, v, index, count, depth, sum, 1);
 }
 
 #endif

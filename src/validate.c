@@ -7,7 +7,8 @@
 
 lc_material lc_material_default(void)
 {
-    lc_material m = {{1, 1, 1}, 1, 1, 0, 0, 32, {0, 0, 0}, LC_ABSORB_ALL, 0, 16};
+    lc_material m = {{1, 1, 1}, 1, 1, 0, 0, 32, {0, 0, 0}, LC_ABSORB_ALL, 0, 16,
+                     0, 1, 1, {0, 0, 0}, LC_SHADOW_FILTERED};
     return m;
 }
 
@@ -116,8 +117,25 @@ lc_status lc_material_check(const lc_material *m, lc_error *err)
     if (check_color(m->color, 1, "color", err) || check_coef(m->ka, "ka", err) ||
         check_coef(m->kd, "kd", err) || check_coef(m->kr, "kr", err) ||
         check_coef(m->ks, "ks", err) || check_coef(m->alpha, "alpha", err) ||
-        check_color(m->emission, HUGE_VAL, "emission", err))
+        check_color(m->emission, HUGE_VAL, "emission", err) ||
+        check_coef(m->kt, "kt", err))
         return LC_EARG;
+    double a[3] = {m->absorption.x, m->absorption.y, m->absorption.z};
+    for (int i = 0; i < 3; i++)
+        if (!(a[i] >= 0 && a[i] <= 1 / LC_MIN_LENGTH))
+            return error_fail(err, LC_EARG, "absorption", "component %d must be in "
+                              "[0, %g] (per unit length, one over lancer's shortest), "
+                              "got %g", i + 1, 1 / LC_MIN_LENGTH, a[i]);
+    /* Below 1 no matter is; up to 100, every ratio of two indices and its
+    ** square stay far from overflow in the Fresnel terms. */
+    if (!(m->ior >= 1 && m->ior <= LC_MAX_IOR))
+        return error_fail(err, LC_EARG, "ior", "must be in [1, %d], got %g", LC_MAX_IOR,
+                          m->ior);
+    if (m->fresnel != 0 && m->fresnel != 1)
+        return error_fail(err, LC_EARG, "fresnel", "must be 0 or 1, got %d", m->fresnel);
+    if (m->shadow != LC_SHADOW_FILTERED && m->shadow != LC_SHADOW_OPAQUE)
+        return error_fail(err, LC_EARG, "shadow", "unknown shadow mode %d",
+                          (int)m->shadow);
     if (!isfinite(m->glossiness) || m->glossiness < 0 || m->glossiness >= 90)
         return error_fail(err, LC_EARG, "glossiness", "must be in [0, 90) degrees, got %g",
                        m->glossiness);

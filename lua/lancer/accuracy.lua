@@ -28,7 +28,7 @@ local ORDER = {"samples", "cone_samples", "light_samples", "max_depth"}
 local ALIASES = {depth = "max_depth"}
 -- Ray kinds in a fixed column order; any other kind the core reports is
 -- appended in name order.
-local KINDS = {"camera", "shadow", "reflection", "glossy", "light", "cut"}
+local KINDS = {"camera", "shadow", "reflection", "refraction", "glossy", "light", "cut"}
 
 local function say(fmt, ...) io.stderr:write("accuracy: ", fmt:format(...), "\n") end
 

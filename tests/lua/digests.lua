@@ -18,6 +18,8 @@ return {
   ["examples/08_moving.lua @48x36x1"] = "8bee0a1fc80d30e0",
   ["examples/09_soft_glossy_lens.lua @32x24x4"] = "eefec01d0f51ac9a",
   ["examples/09_soft_glossy_lens.lua @48x36x1"] = "cfd68782f73bbe13",
+  ["examples/10_glass.lua @32x24x4"] = "f3b9f2c450271545",
+  ["examples/10_glass.lua @48x36x1"] = "6610a6fd0d5922f5",
   ["scenes/bench/b1.lua 1 @32x24x4"] = "e725cb96731d5589",
   ["scenes/bench/b1.lua 1 @48x36x1"] = "2112b6efa95a4c41",
   ["scenes/bench/b2.lua 300 @32x24x4"] = "9f1ad755f9097b14",

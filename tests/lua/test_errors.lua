@@ -72,8 +72,10 @@ local SPECS = {
   {fn = "material", base = {}, empty_ok = true,
    fields = {{"color", "color"}, {"ka", "number"}, {"kd", "number"}, {"kr", "number"},
              {"ks", "number"}, {"alpha", "number"}, {"emission", "color"},
-             {"absorb", "enum"}},
-   known = "color, ka, kd, kr, ks, alpha, emission, absorb", typo = {"colour", "color"}},
+             {"absorb", "enum"}, {"kt", "number"}, {"ior", "number"}, {"fresnel", "bool"},
+             {"absorption", "color"}, {"shadow", "enum"}},
+   known = "color, ka, kd, kr, ks, alpha, emission, absorb, glossiness, cone_samples, kt, "
+           .. "ior, fresnel, absorption, transmittance, shadow", typo = {"colour", "color"}},
   {fn = "sphere", base = {center = {0, 0, 0}, radius = 1},
    fields = {{"center", "vec", true}, {"radius", "number", true}, {"material", "material"}},
    known = "center, radius, material", typo = {"raduis", "radius"}},
@@ -288,6 +290,55 @@ T.test("material: absorb is one of 'all', 'diffuse'", function()
                 "field 'absorb'", "expected one of 'all', 'diffuse', got 'glas'")
   T.check_error(function() lancer.material{absorb = "ALL"} end, HERE, "'material'",
                 "field 'absorb'", "expected one of 'all', 'diffuse', got 'ALL'")
+end)
+
+T.test("material: kt >= 0, ior in [1, 100]", function()
+  T.check_error(function() lancer.material{kt = -1} end, HERE, "'material'",
+                "field 'kt'", "must be >= 0, got -1")
+  for _, bad in ipairs{0.5, 0, -1.5, 100.5, 1e300} do
+    T.check_error(function() lancer.material{kt = 1, ior = bad} end, HERE, "'material'",
+                  "field 'ior'", "must be in [1, 100], got " .. ("%g"):format(bad))
+  end
+end)
+
+T.test("material: absorption components in [0, 1e30] per unit length", function()
+  T.check_error(function() lancer.material{absorption = {0.1, -0.1, 0}} end, HERE,
+                "'material'", "field 'absorption'", "component 2 must be in [0, 1e+30]",
+                "got -0.1")
+  T.check_error(function() lancer.material{absorption = 1e31} end, HERE, "'material'",
+                "field 'absorption'", "component 1", "got 1e+31")
+end)
+
+T.test("material: transmittance = {colour, distance}, or absorption, not both", function()
+  local function bad(t, ...)
+    T.check_error(function() lancer.material{transmittance = t} end, HERE, "'material'",
+                  "field 'transmittance'", ...)
+  end
+  bad(0.5, "{colour, distance} expected, got number")
+  bad({0.5}, "{colour, distance} expected, got 1 entries")
+  bad({0.5, 1, 2}, "got 3 entries")
+  bad({{1, 1}, 2}, "colour: 3 components expected, got 2")
+  bad({"red", 2}, "colour: colour {r, g, b} or number expected, got string")
+  bad({{1, 0 / 0, 1}, 2}, "colour: NaN in component 2")
+  bad({0, 1}, "colour component 1 must be in (0, 1], got 0")
+  bad({{0.5, 1.5, 0.5}, 1}, "colour component 2 must be in (0, 1], got 1.5")
+  bad({0.5, 0}, "distance must be in (0, 1e+30], got 0")
+  bad({0.5, -2}, "got -2")
+  bad({0.5, 0 / 0}, "distance must be in (0, 1e+30], got ", "nan")
+  bad({0.5, 1 / 0}, "got inf")
+  bad({0.5, "far"}, "distance: number expected, got string")
+  T.check_error(function() lancer.material{absorption = 1, transmittance = {0.5, 1}} end,
+                HERE, "'material'", "field 'transmittance'", "'absorption' is given too")
+end)
+
+T.test("material: shadow is one of 'filtered', 'opaque'; misspelt fields get a hint", function()
+  T.check_error(function() lancer.material{shadow = "opaq"} end, HERE, "'material'",
+                "field 'shadow'", "expected one of 'filtered', 'opaque', got 'opaq'")
+  for typo, hint in pairs{iro = "ior", absorbtion = "absorption", frenel = "fresnel",
+                          transmitance = "transmittance", tk = "kt"} do
+    T.check_error(function() lancer.material{[typo] = 1} end, HERE, "'material'",
+                  ("unknown field '%s'; did you mean '%s'?"):format(typo, hint))
+  end
 end)
 
 -- A finite double beyond float range cannot be stored in a colour; the message
