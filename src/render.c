@@ -260,6 +260,15 @@ static int run_pass(job *j, worker *ws, int nt)
                 j->cancel = 1;
         }
     }
+    /* Once more at the pass's end: workers that finished before the first
+    ** wait would otherwise leave the callback never called. */
+    if (o->progress && !j->cancel) {
+        double done = j->base + j->share * j->done / j->ntiles;
+        pthread_mutex_unlock(&j->lock);
+        if (o->progress(o->progress_ud, done))
+            j->cancel = 1;
+        pthread_mutex_lock(&j->lock);
+    }
     pthread_mutex_unlock(&j->lock);
     for (int i = 0; i < started; i++)
         pthread_join(ws[i].thread, NULL);

@@ -231,9 +231,42 @@ static void interrupt_cancels_running_renders_only(void **state)
     lc_scene_free(s);
 }
 
+static int count_calls(void *ud, double done)
+{
+    (void)done;
+    ++*(int *)ud;
+    return 0;
+}
+
+/* The progress callback is called at least once per render, however soon
+** the workers finish: a 1x1 render used to end before the first wait and
+** never call it (the manual's "stop halfway" example then failed). */
+static void progress_is_always_reported(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_scene *s = lc_scene_new(&err);
+    lc_camera cam = lc_camera_default();
+    lc_scene_set_camera(s, &cam, &err);
+    lc_render_options o = lc_render_options_default();
+    o.width = o.height = 1;
+    o.progress = count_calls;
+    for (int i = 0; i < 200; i++) {
+        int calls = 0;
+        o.progress_ud = &calls;
+        lc_image *img = lc_scene_render(s, &o, NULL, &err);
+        assert_non_null(img);
+        lc_image_free(img);
+        if (calls < 1)
+            fail_msg("render %d: the callback was never called", i);
+    }
+    lc_scene_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(progress_is_always_reported),
         cmocka_unit_test(readme_example_renders),
         cmocka_unit_test(errors_name_the_field),
         cmocka_unit_test(dark_renders_warn),
