@@ -117,6 +117,27 @@ static void count(census *c, size_t i)
 /* Decides the effects the frame needs and why, and each material's plan:
 ** an effect no material in use can show is never reached by the render
 ** loop and spawns no ray. */
+static int textured(const lc_material *m)
+{
+    for (int k = 0; k < LC_SLOTS; k++)
+        if (m->texture[k])
+            return 1;
+    return 0;
+}
+
+/* The material as planning sees it: a field a texture stands for may take
+** any value, so it counts as present (a textured kd lights like kd > 0). */
+static lc_material material_bound(const lc_material *m)
+{
+    lc_material b = *m;
+    if (m->texture[LC_SLOT_KD]) b.kd = 1;
+    if (m->texture[LC_SLOT_KS]) b.ks = 1;
+    if (m->texture[LC_SLOT_KR]) b.kr = 1;
+    if (m->texture[LC_SLOT_KT]) b.kt = 1;
+    if (m->texture[LC_SLOT_EMISSION]) b.emission = (lc_color){1, 1, 1};
+    return b;
+}
+
 static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error *err)
 {
     compiled *c = &s->c;
@@ -124,22 +145,24 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     if (!o)
         o = &def;
     mem_free(c->plan);
-    c->plan = mem_calloc(s->nmaterials + 1, 1);
+    c->plan = mem_calloc(s->nmaterials + 1, sizeof *c->plan);
     if (!c->plan)
         return error_fail(err, LC_ENOMEM, NULL, "out of memory planning %zu materials",
                        s->nmaterials);
-    unsigned char *used = c->plan;          /* 1 = in use, before the plans */
+    uint16_t *used = c->plan;               /* 1 = in use, before the plans */
     for (int k = 0; k < LC_SHAPE_KINDS; k++)
         for (size_t i = 0; i < s->shapes[k].n; i++)
             used[s->shapes[k].material[i]] = 1;
     for (size_t i = 0; i < s->nmeshes; i++)
         used[s->meshes[i].material] = 1;
     census lit = {0, 0}, spec = {0, 0}, refl = {0, 0}, gloss = {0, 0}, amb = {0, 0},
-           inuse = {0, 0}, refr = {0, 0}, filt = {0, 0};
+           inuse = {0, 0}, refr = {0, 0}, filt = {0, 0}, tex = {0, 0};
     for (size_t i = 0; i < s->nmaterials; i++) {
-        const lc_material *m = &s->materials[i];
+        lc_material mc = material_bound(&s->materials[i]);
+        const lc_material *m = &mc;
         if (!used[i])
             continue;
+        if (textured(&s->materials[i])) count(&tex, i);
         count(&inuse, i);
         /* A dielectric reflects (Fresnel, or total internal reflection)
         ** whatever its kr. */
@@ -168,6 +191,7 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     /* Shadow rays are traced from lit materials, toward lights. */
     int shadow_rays = lit.count && lights && o->shadows;
     if (filt.count && shadow_rays) needs |= LC_NEED_FILTER;
+    if (tex.count) needs |= LC_NEED_TEXTURE;
     if (o->generic) {        /* everything that can run, runs */
         if (s->nlights) needs |= LC_NEED_SHADOW;
         if (s->nemitters) needs |= area ? LC_NEED_AREA : LC_NEED_EMITTER;
@@ -251,13 +275,19 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
         WHY(9, !filt.count ? "no material in use has kt > 0 and shadow = 'filtered'" :
             !o->shadows ? "shadows off: no shadow rays" : !lights ? "no light" :
             "no material in use has kd or ks > 0");
+    if (needs & LC_NEED_TEXTURE)
+        WHY(10, "%zu material%s in use with a texture (first: #%zu)", tex.count,
+            tex.count == 1 ? "" : "s", tex.first);
+    else
+        WHY(10, "no material in use has a texture");
 #undef WHY
 
     for (size_t i = 0; i < s->nmaterials; i++) {
-        const lc_material *m = &s->materials[i];
+        lc_material mc = material_bound(&s->materials[i]);
+        const lc_material *m = &mc;
         int cone = material_cone(m, o);
         int reflects = m->kr > 0 || m->kt > 0;
-        unsigned char p = 0;
+        uint16_t p = textured(&s->materials[i]) ? PLAN_TEXTURED : 0;
         if (m->kd > 0 || m->ks > 0) p |= PLAN_LIGHTS;
         if (m->ks > 0 && (needs & LC_NEED_SPECULAR)) p |= PLAN_SPECULAR;
         if (reflects && !cone && (needs & LC_NEED_REFLECT)) p |= PLAN_REFLECT;
@@ -273,6 +303,8 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
         ** or not: kt = 0 is opaque. */
         if (m->kt > 0 && (needs & LC_NEED_REFRACT)) p |= PLAN_REFRACT;
         if (m->kt > 0 && m->shadow == LC_SHADOW_FILTERED) p |= PLAN_FILTER;
+        if (textured(&s->materials[i]))
+            p |= PLAN_TEXTURED;
         c->plan[i] = p;
     }
     return LC_OK;

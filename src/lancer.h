@@ -64,6 +64,14 @@ typedef enum { LC_ABSORB_ALL, LC_ABSORB_DIFFUSE } lc_absorb;
 ** transmission and absorption (POV-Ray's look), or stopped (the seed). */
 typedef enum { LC_SHADOW_FILTERED, LC_SHADOW_OPAQUE } lc_shadow_mode;
 
+/* What a texture may stand for in a material (see Textures below): the
+** colour, a coefficient (its luminance, clamped to [0, 1]), the emission,
+** or the height whose slope bends the shading normal. */
+typedef enum {
+    LC_SLOT_COLOR, LC_SLOT_KD, LC_SLOT_KS, LC_SLOT_KR, LC_SLOT_KT, LC_SLOT_EMISSION,
+    LC_SLOT_BUMP, LC_SLOTS
+} lc_slot;
+
 typedef struct {
     lc_color  color;     /* C: absorption, every component in [0, 1] */
     double    ka;        /* ambient coefficient */
@@ -86,6 +94,11 @@ typedef struct {
                             ** double, in [0, 1 / LC_MIN_LENGTH]): e^(-a d) of a
                             ** channel is left after a distance d */
     lc_shadow_mode shadow;  /* shadow rays through it, when kt > 0 */
+    int       texture[LC_SLOTS]; /* 1 + index of the scene's texture standing for
+                            ** that field (lc_scene_add_texture), or 0: the field's
+                            ** own value. Shadow rays and light sampling see the
+                            ** constant kt and emission. */
+    double    bump;         /* the bump texture's height scale, in [-1e6, 1e6] */
 } lc_material;
 
 #define LC_MAX_CONE_SAMPLES 4096
@@ -208,6 +221,68 @@ lc_camera lc_camera_default(void);  /* from (0, 0, 0) at (0, 0, -1), up +y, fov 
                                     ** a pinhole: set `from` and `at` */
 lc_status lc_camera_check(const lc_camera *c, lc_error *err);
 
+/* ---- Textures ----------------------------------------------------------------
+** A texture gives a colour at a surface point: a solid pattern over space
+** (checker, stripes, gradient, noise, marble, wood), an image over the
+** surface's texture coordinates, or a mix of two. Where a number is wanted
+** (kd, ks, ...), its luminance (0.2126 r + 0.7152 g + 0.0722 b) is used. */
+typedef enum {
+    LC_TEX_CHECKER, LC_TEX_STRIPES, LC_TEX_GRADIENT, LC_TEX_NOISE, LC_TEX_MARBLE,
+    LC_TEX_WOOD, LC_TEX_IMAGE, LC_TEX_MIX, LC_TEX_KINDS
+} lc_texture_kind;
+
+/* Where a pattern is evaluated: at the world point, at the point in the
+** object's own space (moved meshes and placed shapes: what their transform
+** moved; other shapes: the world), or at (u, v, 0). */
+typedef enum { LC_MAP_WORLD, LC_MAP_OBJECT, LC_MAP_UV } lc_texture_mapping;
+typedef enum { LC_WRAP_REPEAT, LC_WRAP_CLAMP, LC_WRAP_MIRROR } lc_texture_wrap;
+
+#define LC_MAX_OCTAVES 16
+#define LC_MAX_TEXTURE_DEPTH 16   /* textures within textures, at most */
+
+typedef struct lc_image lc_image;         /* see Images */
+typedef struct lc_textures lc_textures;   /* a set of textures that refer to each other */
+
+typedef struct {
+    lc_texture_kind kind;
+    lc_color a, b;         /* checker's two squares, stripes' two bands, the ends of a
+                           ** gradient, the ramp of noise, marble and wood; mix: the two */
+    int      ta, tb;       /* or textures in their place: 1 + index in the set (0: the
+                           ** colour) */
+    int      tamount;      /* mix: 1 + index of the texture whose luminance weights b
+                           ** over a; 0: the constant `amount` */
+    double   amount;       /* mix: b's weight, in [0, 1] */
+    double   scale;        /* the pattern's period (checker: a square's side), > 0 */
+    lc_vec3  axis;         /* stripes: across this direction; gradient: from `origin`
+                           ** to origin + axis (a at the start, b at the end) */
+    lc_vec3  origin;
+    int      octaves;      /* noise, marble, wood: 1..LC_MAX_OCTAVES */
+    double   turbulence;   /* noise: 0 smooth noise, else turbulence (|noise| summed);
+                           ** marble and wood: how far the noise bends veins and rings */
+    lc_texture_mapping mapping;
+    int      moved;        /* the pattern is placed by xf: evaluated at xf^-1 p */
+    lc_transform xf;
+    /* image: linear RGB, width x height, row 0 at the top (v = 1); copied
+    ** when added. u wraps as `wrap` says, and v. Bilinear, or nearest. */
+    const lc_image *image;
+    lc_texture_wrap wrap;
+    int      nearest;
+} lc_texture;
+
+lc_texture   lc_texture_default(lc_texture_kind kind);   /* white and black, scale 1 */
+lc_textures *lc_textures_new(lc_error *err);
+void         lc_textures_free(lc_textures *set);           /* NULL is a no-op */
+/* Checks t and adds it (an image is copied); returns its index, or -1. A
+** texture may refer only to textures added before it. */
+int          lc_textures_add(lc_textures *set, const lc_texture *t, lc_error *err);
+size_t       lc_textures_count(const lc_textures *set);
+/* Texture i at a surface point: p in the world, q in the object's space
+** (p where it has none), uv its texture coordinates. */
+lc_color     lc_textures_eval(const lc_textures *set, int i, lc_vec3 p, lc_vec3 q,
+                              const double uv[2]);
+/* Perlin's improved gradient noise (2002): 0 at integer points, in [-1, 1]. */
+double       lc_noise(lc_vec3 p);
+
 /* ---- Scenes ---------------------------------------------------------------- */
 
 typedef struct lc_scene lc_scene;
@@ -230,6 +305,10 @@ lc_settings lc_scene_settings(const lc_scene *s);
 int       lc_scene_camera(const lc_scene *s, lc_camera *out);  /* 0: none set */
 lc_status lc_scene_set_camera(lc_scene *s, const lc_camera *c, lc_error *err);
 int       lc_scene_add_material(lc_scene *s, const lc_material *m, lc_error *err);
+/* Adds a texture (an image is copied) for materials added after it to name
+** (material.texture[slot] = 1 + the index returned); ta, tb and tamount
+** name the scene's earlier textures the same way. Returns the index, or -1. */
+int       lc_scene_add_texture(lc_scene *s, const lc_texture *t, lc_error *err);
 int       lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material,
                              lc_error *err);            /* id >= 0, or -1 */
 int       lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err);
@@ -275,8 +354,6 @@ lc_status lc_scene_remove(lc_scene *s, int id, lc_error *err);
 
 /* ---- Rendering ------------------------------------------------------------- */
 
-typedef struct lc_image lc_image;
-
 /* Effects the compile step found the scene needs; a render tests only these. */
 enum {
     LC_NEED_SHADOW   = 1 << 0,   /* point lights light some material in use, with
@@ -291,7 +368,8 @@ enum {
     LC_NEED_REFRACT  = 1 << 8,   /* some material has kt > 0 and max_depth > 0 */
     LC_NEED_FILTER   = 1 << 9,   /* shadow rays cross materials with kt > 0 and
                                  ** shadow = filtered: no any-hit query for them */
-    LC_NEEDS         = 10        /* how many: bit k is 1 << k */
+    LC_NEED_TEXTURE  = 1 << 10,  /* some material in use has a texture */
+    LC_NEEDS         = 11        /* how many: bit k is 1 << k */
 };
 
 typedef enum {
@@ -414,67 +492,6 @@ typedef struct {
 lc_status lc_scene_explain(lc_scene *s, const lc_render_options *o, int x, int y,
                            int sample, lc_ray_record **records, size_t *n,
                            lc_error *err);
-
-/* ---- Textures ----------------------------------------------------------------
-** A texture gives a colour at a surface point: a solid pattern over space
-** (checker, stripes, gradient, noise, marble, wood), an image over the
-** surface's texture coordinates, or a mix of two. Where a number is wanted
-** (kd, ks, ...), its luminance (0.2126 r + 0.7152 g + 0.0722 b) is used. */
-typedef enum {
-    LC_TEX_CHECKER, LC_TEX_STRIPES, LC_TEX_GRADIENT, LC_TEX_NOISE, LC_TEX_MARBLE,
-    LC_TEX_WOOD, LC_TEX_IMAGE, LC_TEX_MIX, LC_TEX_KINDS
-} lc_texture_kind;
-
-/* Where a pattern is evaluated: at the world point, at the point in the
-** object's own space (moved meshes and placed shapes: what their transform
-** moved; other shapes: the world), or at (u, v, 0). */
-typedef enum { LC_MAP_WORLD, LC_MAP_OBJECT, LC_MAP_UV } lc_texture_mapping;
-typedef enum { LC_WRAP_REPEAT, LC_WRAP_CLAMP, LC_WRAP_MIRROR } lc_texture_wrap;
-
-#define LC_MAX_OCTAVES 16
-#define LC_MAX_TEXTURE_DEPTH 16   /* textures within textures, at most */
-
-typedef struct lc_textures lc_textures;   /* a set of textures that refer to each other */
-
-typedef struct {
-    lc_texture_kind kind;
-    lc_color a, b;         /* checker's two squares, stripes' two bands, the ends of a
-                           ** gradient, the ramp of noise, marble and wood; mix: the two */
-    int      ta, tb;       /* or textures in their place: 1 + index in the set (0: the
-                           ** colour) */
-    int      tamount;      /* mix: 1 + index of the texture whose luminance weights b
-                           ** over a; 0: the constant `amount` */
-    double   amount;       /* mix: b's weight, in [0, 1] */
-    double   scale;        /* the pattern's period (checker: a square's side), > 0 */
-    lc_vec3  axis;         /* stripes: across this direction; gradient: from `origin`
-                           ** to origin + axis (a at the start, b at the end) */
-    lc_vec3  origin;
-    int      octaves;      /* noise, marble, wood: 1..LC_MAX_OCTAVES */
-    double   turbulence;   /* noise: 0 smooth noise, else turbulence (|noise| summed);
-                           ** marble and wood: how far the noise bends veins and rings */
-    lc_texture_mapping mapping;
-    int      moved;        /* the pattern is placed by xf: evaluated at xf^-1 p */
-    lc_transform xf;
-    /* image: linear RGB, width x height, row 0 at the top (v = 1); copied
-    ** when added. u wraps as `wrap` says, and v. Bilinear, or nearest. */
-    const lc_image *image;
-    lc_texture_wrap wrap;
-    int      nearest;
-} lc_texture;
-
-lc_texture   lc_texture_default(lc_texture_kind kind);   /* white and black, scale 1 */
-lc_textures *lc_textures_new(lc_error *err);
-void         lc_textures_free(lc_textures *set);           /* NULL is a no-op */
-/* Checks t and adds it (an image is copied); returns its index, or -1. A
-** texture may refer only to textures added before it. */
-int          lc_textures_add(lc_textures *set, const lc_texture *t, lc_error *err);
-size_t       lc_textures_count(const lc_textures *set);
-/* Texture i at a surface point: p in the world, q in the object's space
-** (p where it has none), uv its texture coordinates. */
-lc_color     lc_textures_eval(const lc_textures *set, int i, lc_vec3 p, lc_vec3 q,
-                              const double uv[2]);
-/* Perlin's improved gradient noise (2002): 0 at integer points, in [-1, 1]. */
-double       lc_noise(lc_vec3 p);
 
 /* ---- Casting rays ------------------------------------------------------------
 ** The scene's exact geometry alone, for scripts (drop objects on a terrain,

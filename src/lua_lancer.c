@@ -80,6 +80,7 @@ int luaopen_lancer_core(lua_State *L)
     motion_register(L);
     scene_objects_register(L);
     query_register(L);
+    texture_register(L);
     hook_register(L);
     lua_pushstring(L, LC_VERSION);
     lua_setfield(L, -2, "version");

@@ -98,20 +98,41 @@ static int w_material(lua_State *L)
     static const char *const known[] = {"color", "ka", "kd", "kr", "ks", "alpha",
                                         "emission", "absorb", "glossiness",
                                         "cone_samples", "kt", "ior", "fresnel",
-                                        "absorption", "transmittance", "shadow", NULL};
+                                        "absorption", "transmittance", "shadow", "bump",
+                                        "bump_scale", NULL};
     lf_open(L, 1, known);
     lc_material m = lc_material_default();
-    m.color = lf_color(L, 1, "color", 0, m.color);
+    /* Fields a texture may stand for: the textures go to the user value,
+    ** the rest are read as values. */
+    static const char *const slots[LC_SLOTS] = {"color", "kd", "ks", "kr", "kt",
+                                                "emission", "bump"};
+    int textured[LC_SLOTS] = {0};
+    lua_newtable(L);
+    int tex = lua_gettop(L);
+    for (int k = 0; k < LC_SLOTS; k++) {
+        lua_getfield(L, 1, slots[k]);
+        if (texture_check(L, -1)) {
+            textured[k] = 1;
+            lua_setfield(L, tex, slots[k]);
+        } else {
+            if (k == LC_SLOT_BUMP && !lua_isnil(L, -1))
+                return lf_error(L, 1, "bump", "a texture (its luminance is the height) "
+                                "expected, got %s", luaL_typename(L, -1));
+            lua_pop(L, 1);
+        }
+    }
+    if (!textured[LC_SLOT_COLOR]) m.color = lf_color(L, 1, "color", 0, m.color);
     m.ka = lf_number(L, 1, "ka", 0, m.ka);
-    m.kd = lf_number(L, 1, "kd", 0, m.kd);
-    m.kr = lf_number(L, 1, "kr", 0, m.kr);
-    m.ks = lf_number(L, 1, "ks", 0, m.ks);
+    if (!textured[LC_SLOT_KD]) m.kd = lf_number(L, 1, "kd", 0, m.kd);
+    if (!textured[LC_SLOT_KR]) m.kr = lf_number(L, 1, "kr", 0, m.kr);
+    if (!textured[LC_SLOT_KS]) m.ks = lf_number(L, 1, "ks", 0, m.ks);
     m.alpha = lf_number(L, 1, "alpha", 0, m.alpha);
-    m.emission = lf_color(L, 1, "emission", 0, m.emission);
+    if (!textured[LC_SLOT_EMISSION]) m.emission = lf_color(L, 1, "emission", 0, m.emission);
+    m.bump = lf_number(L, 1, "bump_scale", 0, textured[LC_SLOT_BUMP] ? 1 : 0);
     m.absorb = (lc_absorb)lf_option(L, 1, "absorb", absorb_opts, (int)m.absorb);
     m.glossiness = lf_number(L, 1, "glossiness", 0, m.glossiness);
     m.cone_samples = lf_integer(L, 1, "cone_samples", 0, m.cone_samples);
-    m.kt = lf_number(L, 1, "kt", 0, m.kt);
+    if (!textured[LC_SLOT_KT]) m.kt = lf_number(L, 1, "kt", 0, m.kt);
     m.ior = lf_number(L, 1, "ior", 0, m.ior);
     m.fresnel = lf_boolean(L, 1, "fresnel", m.fresnel);
     m.absorption = read_absorption(L, m.absorption);
@@ -119,9 +140,11 @@ static int w_material(lua_State *L)
     lc_error err;
     if (lc_material_check(&m, &err))
         return lf_raise(L, 1, &err);
-    ud_material *u = lua_newuserdatauv(L, sizeof *u, 0);
+    ud_material *u = lua_newuserdatauv(L, sizeof *u, 1);
     u->m = m;
     luaL_setmetatable(L, MATERIAL);
+    lua_pushvalue(L, tex);
+    lua_setiuservalue(L, -2, 1);
     return 1;
 }
 
@@ -168,6 +191,20 @@ static int w_material_tostring(lua_State *L)
     }
     luaL_addstring(&b, "}");
     luaL_pushresult(&b);
+    /* Its textures after it, one per field they stand for. */
+    static const char *const slots[LC_SLOTS] = {"color", "kd", "ks", "kr", "kt",
+                                                "emission", "bump"};
+    for (int k = 0; k < LC_SLOTS; k++) {
+        lua_settop(L, 2);
+        if (lua_getiuservalue(L, 1, 1) == LUA_TTABLE &&
+            lua_getfield(L, 3, slots[k]) != LUA_TNIL) {
+            luaL_tolstring(L, 4, NULL);
+            lua_pushfstring(L, "%s, %s textured by %s", lua_tostring(L, 2), slots[k],
+                            lua_tostring(L, 5));
+            lua_replace(L, 2);
+        }
+    }
+    lua_settop(L, 2);
     return 1;
 }
 
@@ -175,7 +212,12 @@ static int w_material_index(lua_State *L)
 {
     const lc_material *m = &((ud_material *)luaL_checkudata(L, 1, MATERIAL))->m;
     const char *k = luaL_checkstring(L, 2);
-    if (strcmp(k, "color") == 0) lf_push_color(L, m->color);
+    /* A field a texture stands for reads as that texture. */
+    if (lua_getiuservalue(L, 1, 1) == LUA_TTABLE && lua_getfield(L, -1, k) != LUA_TNIL)
+        return 1;
+    lua_settop(L, 2);
+    if (strcmp(k, "bump_scale") == 0) lua_pushnumber(L, m->bump);
+    else if (strcmp(k, "color") == 0) lf_push_color(L, m->color);
     else if (strcmp(k, "emission") == 0) lf_push_color(L, m->emission);
     else if (strcmp(k, "ka") == 0) lua_pushnumber(L, m->ka);
     else if (strcmp(k, "kd") == 0) lua_pushnumber(L, m->kd);

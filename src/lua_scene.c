@@ -65,11 +65,13 @@ static int w_scene(lua_State *L)
     u->s = NULL;
     luaL_setmetatable(L, SCENE);
     int sidx = lua_gettop(L);
-    lua_createtable(L, 4, 0);
+    lua_createtable(L, 5, 0);
     lua_newtable(L);
     lua_rawseti(L, -2, SC_MATERIALS);
     lua_newtable(L);
     lua_rawseti(L, -2, SC_MESHES);
+    lua_newtable(L);
+    lua_rawseti(L, -2, SC_TEXTURES);
     lua_setiuservalue(L, sidx, 1);
     lc_error err;
     u->s = lc_scene_new(&err);
@@ -121,7 +123,19 @@ static int material_index(lua_State *L, int sidx, int midx, int arg)
             index = (int)lua_tointeger(L, -1);
         } else {
             const ud_material *m = luaL_checkudata(L, midx, MATERIAL);
-            index = lc_scene_add_material(scene_at(L, sidx), &m->m, &err);
+            lc_material mc = m->m;
+            /* Its textures join the scene first (each once), named by index. */
+            static const char *const slots[LC_SLOTS] = {"color", "kd", "ks", "kr", "kt",
+                                                        "emission", "bump"};
+            if (lua_getiuservalue(L, midx, 1) == LUA_TTABLE)
+                for (int k = 0; k < LC_SLOTS; k++) {
+                    lua_pushstring(L, slots[k]);
+                    if (lua_rawget(L, -2) == LUA_TUSERDATA)
+                        mc.texture[k] = 1 + texture_scene_index(L, sidx, -1, arg, 0);
+                    lua_pop(L, 1);
+                }
+            lua_pop(L, 1);
+            index = lc_scene_add_material(scene_at(L, sidx), &mc, &err);
             if (index < 0)
                 lf_raise(L, arg, &err);
             lua_pushvalue(L, midx);
@@ -386,6 +400,8 @@ static int w_scene_transformed(lua_State *L)
     lua_rawseti(L, -3, SC_DEFAULT);
     lua_rawgeti(L, -1, SC_MESHES);         /* instances keep their meshes */
     lua_rawseti(L, -3, SC_MESHES);
+    lua_rawgeti(L, -1, SC_TEXTURES);       /* the copy keeps their order */
+    lua_rawseti(L, -3, SC_TEXTURES);
     lua_pop(L, 1);
     lua_setiuservalue(L, ci, 1);
     lc_error err;

@@ -18,8 +18,11 @@
 #define TRANSFORM "lancer.Transform"
 #define GROUP    "lancer.Group"
 #define ENTRY    "lancer.SceneObject"
+#define TEXTURE  "lancer.Texture"
 
-typedef struct { lc_material m; } ud_material;
+typedef struct { lc_material m; } ud_material;   /* user value 1: its textures, by
+                                                  ** field name, or nil */
+typedef struct { lc_texture t; } ud_texture;     /* user values: lua_texture.c */
 typedef struct { lc_shape s; } ud_shape;          /* user value 1: its material */
 typedef struct { lc_point_light l; } ud_light;
 typedef struct { lc_camera c; } ud_camera;
@@ -38,7 +41,7 @@ typedef struct { lc_transform t; } ud_group;      /* user value 1: its members, 
 ** it (so a material shared by a million spheres is stored once),
 ** [SC_DEFAULT] the index of the default material, [SC_MESHES] a table from
 ** each mesh's core pointer (light userdata) to its userdata, for listing. */
-enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4 };
+enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4, SC_TEXTURES = 5 };
 
 /* A metatable `name` with the metamethods `meta` and, when given, methods
 ** that its __index looks up under "methods". */
@@ -64,6 +67,11 @@ void motion_register(lua_State *L);    /* lua_motion.c: transforms and groups */
 void scene_objects_register(lua_State *L); /* lua_scene_objects.c: objects, remove */
 void hook_register(lua_State *L);      /* lua_hook.c: set_host_hook */
 void query_register(lua_State *L);     /* lua_query.c: intersect, occluded */
+void texture_register(lua_State *L);   /* lua_texture.c: checker, ..., mix */
+/* lua_texture.c: the index in the scene at sidx of the texture at tidx,
+** added (with the textures within it) the first time; raises naming arg. */
+int  texture_scene_index(lua_State *L, int sidx, int tidx, int arg, int depth);
+int  texture_check(lua_State *L, int idx);    /* 1: a texture */
 
 /* lua_scene.c: the scene userdata at idx, raising when it is not one or is freed. */
 ud_scene *scene_check(lua_State *L, int idx);

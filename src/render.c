@@ -39,6 +39,7 @@ const char *lc_need_name(unsigned need)
     case LC_NEED_LENS: return "lens";
     case LC_NEED_REFRACT: return "refract";
     case LC_NEED_FILTER: return "filter";
+    case LC_NEED_TEXTURE: return "texture";
     default: return "?";
     }
 }

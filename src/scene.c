@@ -3,6 +3,7 @@
 #include <string.h>
 #include "error.h"
 #include "scene.h"
+#include "texture.h"
 #include "mem.h"
 
 /* Makes room for one more element of `size` bytes in *arr. */
@@ -48,6 +49,7 @@ void lc_scene_free(lc_scene *s)
     }
     mem_free(s->light_ids);
     mem_free(s->materials);
+    lc_textures_free(s->textures);
     for (int k = 0; k < LC_SHAPE_KINDS; k++) {
         mem_free(s->shapes[k].geom);
         mem_free(s->shapes[k].material);
@@ -96,10 +98,27 @@ lc_status lc_scene_set_camera(lc_scene *s, const lc_camera *c, lc_error *err)
     return LC_OK;
 }
 
+int lc_scene_add_texture(lc_scene *s, const lc_texture *t, lc_error *err)
+{
+    if (!s->textures && !(s->textures = lc_textures_new(err)))
+        return -1;
+    int i = lc_textures_add(s->textures, t, err);
+    if (i >= 0)
+        s->c.valid = 0;
+    return i;
+}
+
 int lc_scene_add_material(lc_scene *s, const lc_material *m, lc_error *err)
 {
     if (lc_material_check(m, err))
         return -1;
+    size_t ntex = s->textures ? lc_textures_count(s->textures) : 0;
+    static const char *const slots[LC_SLOTS] = {"color", "kd", "ks", "kr", "kt",
+                                                "emission", "bump"};
+    for (int k = 0; k < LC_SLOTS; k++)
+        if ((size_t)m->texture[k] > ntex)
+            return error_fail(err, LC_EARG, slots[k], "no texture %d in this scene (it "
+                              "has %zu)", m->texture[k], ntex), -1;
     if (s->nmaterials >= PRIM_MAX || !GROW(s, materials)) {
         error_fail(err, LC_ENOMEM, NULL, "out of memory adding a material");
         return -1;
@@ -282,6 +301,8 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
         if (lc_scene_set_camera(c, &cam, err))
             goto fail;
     }
+    if (s->textures && !(c->textures = textures_transformed(s->textures, scale, t, err)))
+        goto fail;
     for (size_t i = 0; i < s->nmaterials; i++) {
         lc_material m = s->materials[i];
         /* Per unit length: the same e^(-absorption d) over lengths d * scale. */

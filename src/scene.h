@@ -46,7 +46,7 @@ typedef struct {
     bvh      bvh;          /* over the bounded shapes, triangles and instances */
     unsigned needs;        /* LC_NEED_* */
     int      depth;        /* the render's max_depth: its own or the scene's */
-    unsigned char *plan;   /* per material, PLAN_* below: decided once per render */
+    uint16_t *plan;        /* per material, PLAN_* below: decided once per render */
     char     why[LC_NEEDS][160];
     double   seconds;
     int      valid;        /* matches the scene as it is now */
@@ -66,6 +66,7 @@ struct lc_scene {
     int        *light_ids;         /* lights[i] has id light_ids[i] */
     SCENE_ARRAY(mesh_bvh, blas);   /* instanced meshes' BVHs, kept across compiles */
     SCENE_ARRAY(lc_material, materials);
+    lc_textures *textures;         /* NULL until the first lc_scene_add_texture */
     shape_list  shapes[LC_SHAPE_KINDS];   /* by kind, each sorted by id */
     SCENE_ARRAY(mesh_prim, meshes);
     SCENE_ARRAY(emitter, emitters);
@@ -84,7 +85,8 @@ enum {
     PLAN_EMITS    = 1 << 4,   /* emission > 0 */
     PLAN_GLOSSY   = 1 << 5,   /* kr or kt > 0 through a diffusion cone, and cones on */
     PLAN_REFRACT  = 1 << 6,   /* kt > 0 and max_depth > 0: a dielectric, a medium */
-    PLAN_FILTER   = 1 << 7    /* kt > 0 and shadow = filtered: shadow rays cross it */
+    PLAN_FILTER   = 1 << 7,   /* kt > 0 and shadow = filtered: shadow rays cross it */
+    PLAN_TEXTURED = 1 << 8    /* some field is a texture: evaluated at each hit */
 };
 
 /* o: the render's switches, or NULL for the defaults; a BVH build stops

@@ -4,6 +4,7 @@
 ** shade_lights.h, explain's recorder in explain.c, the media in media.h. */
 #include "dielectric.h"
 #include "shade.h"
+#include "surface.h"
 #include "shade_lights.h"
 
 /* Where a path stands in the pixel's sample set: camera sample `index` of
@@ -248,6 +249,9 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
             t->self_hits++;
         const lc_material *m = &s->materials[h.material];
         unsigned plan = t->plan[h.material];
+        lc_material textured;
+        if (plan & PLAN_TEXTURED)
+            m = surface_material(s, &h, m, &textured);
         lc_vec3 n = v3_dot(h.n, r.d) > 0 ? v3_neg(h.ns) : h.ns;  /* face the viewer */
         lc_vec3 v = v3_neg(r.d);
         if (glass && (plan & PLAN_REFRACT) && !md.n && v3_dot(r.d, h.n) > 0)

@@ -27,7 +27,7 @@ typedef struct {
     const lc_scene *scene;
     ray_log *log;              /* explain's record of the rays; NULL while rendering */
     unsigned needs;            /* copy of c->needs, minus what options turn off */
-    const unsigned char *plan; /* per material: the PLAN_* steps its shading takes */
+    const uint16_t *plan;   /* per material: the PLAN_* steps its shading takes */
     int      shadows;          /* trace shadow rays (the render's switch) */
     bvh_counts counts;         /* this thread's intersection tests */
     int      max_depth;

@@ -6,6 +6,7 @@
 #include "error.h"
 #include "image.h"
 #include "mem.h"
+#include "texture.h"
 #include "validate.h"
 #include "vec.h"
 
@@ -374,4 +375,49 @@ lc_color lc_textures_eval(const lc_textures *s, int i, lc_vec3 p, lc_vec3 q,
     if (!s || i < 0 || (size_t)i >= s->n)
         return (lc_color){0, 0, 0};
     return eval(s, i, p, q, uv);
+}
+
+double textures_scalar(const lc_textures *s, int i, lc_vec3 p, lc_vec3 q, const double uv[2])
+{
+    return luminance(lc_textures_eval(s, i, p, q, uv));
+}
+
+double textures_step(const lc_textures *s, int i)
+{
+    return 1e-3 * s->t[i].d.scale;
+}
+
+int textures_use_uv(const lc_textures *s, int i)
+{
+    const lc_texture *d = &s->t[i].d;
+    if (d->mapping == LC_MAP_UV)
+        return 1;
+    const int refs[3] = {d->ta, d->tb, d->tamount};
+    for (int k = 0; k < 3; k++)
+        if (refs[k] && textures_use_uv(s, refs[k] - 1))
+            return 1;
+    return 0;
+}
+
+lc_textures *textures_transformed(const lc_textures *s, double scale, lc_vec3 offset,
+                                  lc_error *err)
+{
+    lc_textures *c = lc_textures_new(err);
+    lc_transform move = {{{scale, 0, 0, offset.x}, {0, scale, 0, offset.y},
+                          {0, 0, scale, offset.z}}};
+    for (size_t i = 0; c && i < s->n; i++) {
+        const texture *t = &s->t[i];
+        lc_texture d = t->d;
+        lc_image img = {t->w, t->h, t->px};
+        d.image = t->px ? &img : NULL;
+        if (d.mapping == LC_MAP_WORLD) {
+            d.xf = d.moved ? lc_transform_compose(&move, &d.xf) : move;
+            d.moved = 1;
+        }
+        if (lc_textures_add(c, &d, err) < 0) {
+            lc_textures_free(c);
+            c = NULL;
+        }
+    }
+    return c;
 }

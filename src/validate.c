@@ -8,7 +8,7 @@
 lc_material lc_material_default(void)
 {
     lc_material m = {{1, 1, 1}, 1, 1, 0, 0, 32, {0, 0, 0}, LC_ABSORB_ALL, 0, 16,
-                     0, 1, 1, {0, 0, 0}, LC_SHADOW_FILTERED};
+                     0, 1, 1, {0, 0, 0}, LC_SHADOW_FILTERED, {0}, 0};
     return m;
 }
 
@@ -144,6 +144,15 @@ lc_status lc_material_check(const lc_material *m, lc_error *err)
                        LC_MAX_CONE_SAMPLES, m->cone_samples);
     if (m->absorb != LC_ABSORB_ALL && m->absorb != LC_ABSORB_DIFFUSE)
         return error_fail(err, LC_EARG, "absorb", "unknown absorb mode %d", (int)m->absorb);
+    static const char *const slots[LC_SLOTS] = {"color", "kd", "ks", "kr", "kt",
+                                                "emission", "bump"};
+    for (int k = 0; k < LC_SLOTS; k++)
+        if (m->texture[k] < 0)
+            return error_fail(err, LC_EARG, slots[k], "texture index must be >= 0 (0: "
+                              "none), got %d", m->texture[k]);
+    if (!(m->bump >= -1e6 && m->bump <= 1e6))
+        return error_fail(err, LC_EARG, "bump_scale", "must be in [-1e6, 1e6], got %g",
+                          m->bump);
     error_ok(err);
     return LC_OK;
 }
