@@ -41,6 +41,12 @@ LUA_CFLAGS := $(shell pkg-config --cflags lua5.4 2>/dev/null)
 LUA_LIBS   := $(shell pkg-config --libs lua5.4 2>/dev/null)
 PNG_CFLAGS := $(shell pkg-config --cflags libpng 2>/dev/null)
 PNG_LIBS   := $(shell pkg-config --libs libpng 2>/dev/null)
+# OpenEXR through its C library alone (OpenEXRCore, src/exr.c): OpenEXR.pc's
+# --libs would also pull in the C++ libraries, and its --cflags need Imath.
+EXR_CFLAGS := $(addprefix -I,$(shell pkg-config --variable=OpenEXR_includedir OpenEXR 2>/dev/null))
+EXR_LIBS   := $(shell pkg-config --exists OpenEXR 2>/dev/null && echo \
+                -L$$(pkg-config --variable=libdir OpenEXR) \
+                -lOpenEXRCore$$(pkg-config --variable=libsuffix OpenEXR))
 EDIT_CFLAGS := $(shell pkg-config --cflags libedit 2>/dev/null)
 EDIT_LIBS   := $(shell pkg-config --libs libedit 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
@@ -68,11 +74,11 @@ BIN    := $(BUILD)/bin/lancer
 C_TESTS := $(patsubst tests/c/%.c,$(BUILD)/tests/%,$(wildcard tests/c/test_*.c))
 
 .PHONY: all demo test check bench clean install-deps
-all: $(LIB) $(MODULE) $(BIN)
+all: $(LIB) $(MODULE) $(BIN) $(BUILD)/lancer-uninstalled.pc
 
 $(BUILD)/obj/%.o: src/%.c
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) -c $< -o $@
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) $(EXR_CFLAGS) -c $< -o $@
 
 $(BUILD)/obj/lua_%.o: src/lua_%.c
 	@mkdir -p $(@D)
@@ -85,7 +91,7 @@ $(LIB): $(CORE_OBJ)
 # The module links no liblua: the lua5.4 binary exports the Lua API itself.
 $(MODULE): $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	@mkdir -p $(@D)
-	$(CC) -shared $(LDFLAGS) -o $@ $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(PNG_LIBS) -lm -pthread
+	$(CC) -shared $(LDFLAGS) -o $@ $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
 
 # The host embeds lua/lancer/*.lua so it runs from anywhere.
 $(BUILD)/gen/lua_embedded.c: $(LUA_FILES) tools/embed-lua.sh
@@ -101,11 +107,23 @@ $(BUILD)/obj/lua_embedded.o: $(BUILD)/gen/lua_embedded.c
 
 $(BIN): $(HOST_OBJ) $(BUILD)/obj/lua_embedded.o $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EDIT_LIBS) -lm -pthread
+	$(CC) $(LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EXR_LIBS) $(EDIT_LIBS) -lm -pthread
 
 $(BUILD)/tests/%: tests/c/%.c $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -Isrc -o $@ $< $(LIB) $(CMOCKA_LIBS) $(PNG_LIBS) -lm -pthread
+	$(CC) $(CPPFLAGS) $(CFLAGS) -Isrc -o $@ $< $(LIB) $(CMOCKA_LIBS) $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
+
+# What a program linking the core needs; only a static library is built, so
+# the libraries it uses are in Libs, not Libs.private.
+LINK_LIBS = $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
+
+# For programs built against the build tree:
+#   cc prog.c $$(PKG_CONFIG_PATH=build pkg-config --cflags --libs lancer)
+$(BUILD)/lancer-uninstalled.pc: Makefile
+	@mkdir -p $(@D)
+	printf '%s\n' 'Name: lancer' 'Description: lancer, an embeddable ray tracer (build tree)' \
+	  'Version: $(shell sed -n 's/^#define LC_VERSION "\(.*\)"/\1/p' src/lancer.h)' \
+	  'Cflags: -I$(abspath src)' 'Libs: $(abspath $(LIB)) $(LINK_LIBS)' > $@
 
 install-deps:
 	@sh tools/install-deps.sh build
@@ -137,7 +155,7 @@ bench: all $(BUILD)/bin/lc-runstat
 # The Embree peer (tools/bench/embree.lua): bench only, never in lancer.
 $(BUILD)/bin/lc-raycast: tools/bench/raycast.c $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(CFLAGS) -std=c11 -Isrc $(LDFLAGS) -o $@ $< $(LIB) -lembree3 $(PNG_LIBS) -lm -pthread
+	$(CC) $(CFLAGS) -std=c11 -Isrc $(LDFLAGS) -o $@ $< $(LIB) -lembree3 $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
 
 $(BUILD)/bin/lc-runstat: tools/runstat.c
 	@mkdir -p $(@D)

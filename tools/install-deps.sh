@@ -5,7 +5,8 @@
 # so a machine that already has everything is never touched.
 set -eu
 
-build_pkgs="gcc make pkg-config lua5.4 liblua5.4-dev libpng-dev libedit-dev"
+# libopenexr-dev: EXR output and input through OpenEXRCore, its C library (src/exr.c).
+build_pkgs="gcc make pkg-config lua5.4 liblua5.4-dev libpng-dev libedit-dev libopenexr-dev"
 # parallel: tests/lua/test_farm.lua splits an animation over GNU parallel workers.
 # ffmpeg is optional (about 300 packages): its tests are skipped without it.
 test_pkgs="libcmocka-dev parallel"
