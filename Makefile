@@ -3,6 +3,9 @@
 #   make demo     install missing Debian packages, build, render the showcase
 #   make test     install missing Debian packages, build, run every test
 #   make bench    lancer against POV-Ray, Tachyon and Embree (QUICK=1: a subset)
+#   make install  install lancer, the Lua module, liblancer.a, lancer.h and
+#                 lancer.pc under PREFIX (/usr/local), staged under DESTDIR
+#   make uninstall  remove what make install put there
 #   make SAN=1    add address and undefined-behaviour sanitizers
 #   make NAIVE=1  build/naive: naive intersections and epsilons (bench only)
 #   make MINIMAL=1 build/minimal: diffuse-only shading (bench only)
@@ -68,12 +71,26 @@ LUA_OBJ  := $(LUA_SRC:src/%.c=$(BUILD)/obj/%.o)
 HELPER_OBJ := $(HELPER_SRC:src/%.c=$(BUILD)/obj/%.o)
 LUA_FILES := $(wildcard lua/lancer/*.lua)
 
+# Where make install puts things. The Lua module goes where the stock lua5.4
+# looks under PREFIX, Lua's own layout: lua5.4.pc's INSTALL_CMOD is
+# /usr/lib/<multiarch>/lua/5.4, which a PREFIX of /usr/local does not reach,
+# and Debian's lua5.4 searches $(PREFIX)/lib/lua/5.4 and $(PREFIX)/share/lua/5.4
+# for both /usr/local and /usr (ECOSYSTEM.md 1).
+PREFIX     ?= /usr/local
+BINDIR     ?= $(PREFIX)/bin
+LIBDIR     ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+LUA_LMOD   ?= $(PREFIX)/share/lua/5.4
+LUA_CMOD   ?= $(PREFIX)/lib/lua/5.4
+INSTALL    ?= install
+
 LIB    := $(BUILD)/liblancer.a
 MODULE := $(BUILD)/lancer/core.so
 BIN    := $(BUILD)/bin/lancer
 C_TESTS := $(patsubst tests/c/%.c,$(BUILD)/tests/%,$(wildcard tests/c/test_*.c))
 
-.PHONY: all demo test check bench clean install-deps
+.PHONY: all demo test check bench clean install-deps install uninstall
 all: $(LIB) $(MODULE) $(BIN) $(BUILD)/lancer-uninstalled.pc
 
 $(BUILD)/obj/%.o: src/%.c
@@ -124,6 +141,28 @@ $(BUILD)/lancer-uninstalled.pc: Makefile
 	printf '%s\n' 'Name: lancer' 'Description: lancer, an embeddable ray tracer (build tree)' \
 	  'Version: $(shell sed -n 's/^#define LC_VERSION "\(.*\)"/\1/p' src/lancer.h)' \
 	  'Cflags: -I$(abspath src)' 'Libs: $(abspath $(LIB)) $(LINK_LIBS)' > $@
+
+install: all
+	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCLUDEDIR) \
+	  $(DESTDIR)$(PKGCONFIGDIR) $(DESTDIR)$(LUA_LMOD)/lancer $(DESTDIR)$(LUA_CMOD)/lancer
+	$(INSTALL) -m 755 $(BIN) $(DESTDIR)$(BINDIR)/lancer
+	$(INSTALL) -m 644 $(LIB) $(DESTDIR)$(LIBDIR)/liblancer.a
+	$(INSTALL) -m 644 src/lancer.h $(DESTDIR)$(INCLUDEDIR)/lancer.h
+	$(INSTALL) -m 755 $(MODULE) $(DESTDIR)$(LUA_CMOD)/lancer/core.so
+	$(INSTALL) -m 644 $(LUA_FILES) $(DESTDIR)$(LUA_LMOD)/lancer/
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}$(patsubst $(PREFIX)%,%,$(LIBDIR))' \
+	  'includedir=$${prefix}$(patsubst $(PREFIX)%,%,$(INCLUDEDIR))' '' 'Name: lancer' \
+	  'Description: lancer, an embeddable ray tracer (its C core)' \
+	  'Version: $(shell sed -n 's/^#define LC_VERSION "\(.*\)"/\1/p' src/lancer.h)' \
+	  'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -llancer $(LINK_LIBS)' \
+	  > $(DESTDIR)$(PKGCONFIGDIR)/lancer.pc
+
+uninstall:
+	rm -f $(DESTDIR)$(BINDIR)/lancer $(DESTDIR)$(LIBDIR)/liblancer.a \
+	  $(DESTDIR)$(INCLUDEDIR)/lancer.h $(DESTDIR)$(PKGCONFIGDIR)/lancer.pc \
+	  $(DESTDIR)$(LUA_CMOD)/lancer/core.so \
+	  $(addprefix $(DESTDIR)$(LUA_LMOD)/lancer/,$(notdir $(LUA_FILES)))
+	-rmdir $(DESTDIR)$(LUA_CMOD)/lancer $(DESTDIR)$(LUA_LMOD)/lancer 2>/dev/null
 
 install-deps:
 	@sh tools/install-deps.sh build
