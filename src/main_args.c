@@ -352,9 +352,8 @@ static int parse_anim_option(struct cmdline *cl, int *i, int *st)
     }
     if (strcmp(name, "--frames") == 0 || strcmp(name, "--frame") == 0) {
         if ((why = args_frame_list(v, name, NULL)) != NULL) {
-            fprintf(stderr, "lancer: option '%s' needs frames like 7, 1-48, 1-48:2, "
-                    "1-48x2 or 1,5,9-12, got '%s' (%s); try 'lancer --help'\n", name, v,
-                    why);
+            fprintf(stderr, "lancer: option '%s' needs frames like 7, 1-48, 1-48:2 or "
+                    "1,5,9-12, got '%s' (%s); try 'lancer --help'\n", name, v, why);
             *st = PARSE_USAGE;
         } else if (strcmp(name, "--frame") == 0 && strpbrk(v, ",-:x")) {
             *st = bad_value(name, "one frame number (--frames takes lists)", v);
