@@ -451,8 +451,9 @@ void      lc_image_set(lc_image *img, int x, int y, lc_color c);
 uint8_t   lc_encode_channel(float linear, lc_encoding enc); /* clamp, encode, round */
 lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding enc,
                             lc_error *err);             /* temp file, then rename */
-/* Saves in the format the path's extension names (.png, case-insensitive);
-** any other extension is refused, naming it, rather than written as PNG.
+/* Saves in the format the path's extension names (.png or .exr, any case,
+** with lc_save_options_default and enc: 8-bit PNG, half zip EXR); any other
+** extension is refused, naming it, rather than written as PNG.
 ** Saves are atomic: the image goes to TARGET.tmp-HOST-PID-XXXXXX, renamed
 ** over TARGET once whole; a target that is not a regular file (a device,
 ** a FIFO, a directory) is refused; a symbolic link is saved through; the
