@@ -3,6 +3,9 @@
 #   make demo     install missing Debian packages, build, render the showcase
 #   make test     install missing Debian packages, build, run every test
 #   make bench    lancer against POV-Ray, Tachyon and Embree (QUICK=1: a subset)
+#   make install  install lancer, the Lua module, liblancer.a, lancer.h and
+#                 lancer.pc under PREFIX (/usr/local), staged under DESTDIR
+#   make uninstall  remove what make install put there
 #   make SAN=1    build/san: address, undefined-behaviour and leak sanitizers
 #   make santest  the tests against build/san (ASan + UBSan + LSan, any report fails)
 #   make tsan     the threaded C tests under ThreadSanitizer (build/tsan)
@@ -75,6 +78,12 @@ LUA_CFLAGS := $(shell pkg-config --cflags lua5.4 2>/dev/null)
 LUA_LIBS   := $(shell pkg-config --libs lua5.4 2>/dev/null)
 PNG_CFLAGS := $(shell pkg-config --cflags libpng 2>/dev/null)
 PNG_LIBS   := $(shell pkg-config --libs libpng 2>/dev/null)
+# OpenEXR through its C library alone (OpenEXRCore, src/exr.c): OpenEXR.pc's
+# --libs would also pull in the C++ libraries, and its --cflags need Imath.
+EXR_CFLAGS := $(addprefix -I,$(shell pkg-config --variable=OpenEXR_includedir OpenEXR 2>/dev/null))
+EXR_LIBS   := $(shell pkg-config --exists OpenEXR 2>/dev/null && echo \
+                -L$$(pkg-config --variable=libdir OpenEXR) \
+                -lOpenEXRCore$$(pkg-config --variable=libsuffix OpenEXR))
 EDIT_CFLAGS := $(shell pkg-config --cflags libedit 2>/dev/null)
 EDIT_LIBS   := $(shell pkg-config --libs libedit 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
@@ -97,17 +106,32 @@ LUA_OBJ  := $(LUA_SRC:src/%.c=$(BUILD)/obj/%.o)
 HELPER_OBJ := $(HELPER_SRC:src/%.c=$(BUILD)/obj/%.o)
 LUA_FILES := $(wildcard lua/lancer/*.lua)
 
+# Where make install puts things. The Lua module goes where the stock lua5.4
+# looks under PREFIX, Lua's own layout: lua5.4.pc's INSTALL_CMOD is
+# /usr/lib/<multiarch>/lua/5.4, which a PREFIX of /usr/local does not reach,
+# and Debian's lua5.4 searches $(PREFIX)/lib/lua/5.4 and $(PREFIX)/share/lua/5.4
+# for both /usr/local and /usr (ECOSYSTEM.md 1).
+PREFIX     ?= /usr/local
+BINDIR     ?= $(PREFIX)/bin
+LIBDIR     ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+LUA_LMOD   ?= $(PREFIX)/share/lua/5.4
+LUA_CMOD   ?= $(PREFIX)/lib/lua/5.4
+INSTALL    ?= install
+
 LIB    := $(BUILD)/liblancer.a
 MODULE := $(BUILD)/lancer/core.so
 BIN    := $(BUILD)/bin/lancer
 C_TESTS := $(patsubst tests/c/%.c,$(BUILD)/tests/%,$(wildcard tests/c/test_*.c))
 
-.PHONY: all demo test check santest tsan fuzz fuzz-build fuzzers bench clean install-deps
-all: $(LIB) $(MODULE) $(BIN)
+.PHONY: all demo test check santest tsan fuzz fuzz-build fuzzers bench clean install-deps \
+        install uninstall
+all: $(LIB) $(MODULE) $(BIN) $(BUILD)/lancer-uninstalled.pc
 
 $(BUILD)/obj/%.o: src/%.c
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) -c $< -o $@
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) $(EXR_CFLAGS) -c $< -o $@
 
 $(BUILD)/obj/lua_%.o: src/lua_%.c
 	@mkdir -p $(@D)
@@ -120,7 +144,7 @@ $(LIB): $(CORE_OBJ)
 # The module links no liblua: the lua5.4 binary exports the Lua API itself.
 $(MODULE): $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	@mkdir -p $(@D)
-	$(CC) -shared $(LDFLAGS) -o $@ $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(PNG_LIBS) -lm -pthread
+	$(CC) -shared $(LDFLAGS) -o $@ $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
 
 # The host embeds lua/lancer/*.lua so it runs from anywhere.
 $(BUILD)/gen/lua_embedded.c: $(LUA_FILES) tools/embed-lua.sh
@@ -136,12 +160,47 @@ $(BUILD)/obj/lua_embedded.o: $(BUILD)/gen/lua_embedded.c
 
 $(BIN): $(HOST_OBJ) $(BUILD)/obj/lua_embedded.o $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(LDFLAGS) $(EXE_LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EDIT_LIBS) -lm -pthread
+	$(CC) $(LDFLAGS) $(EXE_LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EXR_LIBS) $(EDIT_LIBS) \
+	    -lm -pthread
 
 $(BUILD)/tests/%: tests/c/%.c $(LIB)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXE_LDFLAGS) -Isrc -o $@ $< $(LIB) $(CMOCKA_LIBS) $(PNG_LIBS) \
-	    -lm -pthread
+	    $(EXR_LIBS) -lm -pthread
+
+# What a program linking the core needs; only a static library is built, so
+# the libraries it uses are in Libs, not Libs.private.
+LINK_LIBS = $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
+
+# For programs built against the build tree:
+#   cc prog.c $$(PKG_CONFIG_PATH=build pkg-config --cflags --libs lancer)
+$(BUILD)/lancer-uninstalled.pc: Makefile
+	@mkdir -p $(@D)
+	printf '%s\n' 'Name: lancer' 'Description: lancer, an embeddable ray tracer (build tree)' \
+	  'Version: $(shell sed -n 's/^#define LC_VERSION "\(.*\)"/\1/p' src/lancer.h)' \
+	  'Cflags: -I$(abspath src)' 'Libs: $(abspath $(LIB)) $(LINK_LIBS)' > $@
+
+install: all
+	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCLUDEDIR) \
+	  $(DESTDIR)$(PKGCONFIGDIR) $(DESTDIR)$(LUA_LMOD)/lancer $(DESTDIR)$(LUA_CMOD)/lancer
+	$(INSTALL) -m 755 $(BIN) $(DESTDIR)$(BINDIR)/lancer
+	$(INSTALL) -m 644 $(LIB) $(DESTDIR)$(LIBDIR)/liblancer.a
+	$(INSTALL) -m 644 src/lancer.h $(DESTDIR)$(INCLUDEDIR)/lancer.h
+	$(INSTALL) -m 755 $(MODULE) $(DESTDIR)$(LUA_CMOD)/lancer/core.so
+	$(INSTALL) -m 644 $(LUA_FILES) $(DESTDIR)$(LUA_LMOD)/lancer/
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}$(patsubst $(PREFIX)%,%,$(LIBDIR))' \
+	  'includedir=$${prefix}$(patsubst $(PREFIX)%,%,$(INCLUDEDIR))' '' 'Name: lancer' \
+	  'Description: lancer, an embeddable ray tracer (its C core)' \
+	  'Version: $(shell sed -n 's/^#define LC_VERSION "\(.*\)"/\1/p' src/lancer.h)' \
+	  'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -llancer $(LINK_LIBS)' \
+	  > $(DESTDIR)$(PKGCONFIGDIR)/lancer.pc
+
+uninstall:
+	rm -f $(DESTDIR)$(BINDIR)/lancer $(DESTDIR)$(LIBDIR)/liblancer.a \
+	  $(DESTDIR)$(INCLUDEDIR)/lancer.h $(DESTDIR)$(PKGCONFIGDIR)/lancer.pc \
+	  $(DESTDIR)$(LUA_CMOD)/lancer/core.so \
+	  $(addprefix $(DESTDIR)$(LUA_LMOD)/lancer/,$(notdir $(LUA_FILES)))
+	-rmdir $(DESTDIR)$(LUA_CMOD)/lancer $(DESTDIR)$(LUA_LMOD)/lancer 2>/dev/null
 
 install-deps:
 	@sh tools/install-deps.sh build
@@ -198,15 +257,16 @@ ifeq ($(FUZZ),1)
 fuzzers: $(FUZZERS:%=$(BUILD)/fuzz_%)
 
 $(BUILD)/fuzz_obj: tests/fuzz/obj/fuzz_obj.c $(LIB)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) $(PNG_LIBS) -lm -pthread
+	$(CC) $(CPPFLAGS) $(CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) $(PNG_LIBS) \
+	    $(EXR_LIBS) -lm -pthread
 
 $(BUILD)/fuzz_png: tests/fuzz/png/fuzz_png.c $(LIB)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) \
-	    $(PNG_LIBS) $(ZLIB_LIBS) -lm -pthread
+	    $(PNG_LIBS) $(ZLIB_LIBS) $(EXR_LIBS) -lm -pthread
 
 $(BUILD)/fuzz_lua: tests/fuzz/lua/fuzz_lua.c $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(LUA_CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< \
-	    $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(LUA_LIBS) $(PNG_LIBS) -lm -pthread
+	    $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(LUA_LIBS) $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
 endif
 
 # The peers' files, images and results.md land in out/bench/ (tools/bench/).
@@ -222,7 +282,7 @@ bench: all $(BUILD)/bin/lc-runstat
 # The Embree peer (tools/bench/embree.lua): bench only, never in lancer.
 $(BUILD)/bin/lc-raycast: tools/bench/raycast.c $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(CFLAGS) -std=c11 -Isrc $(LDFLAGS) -o $@ $< $(LIB) -lembree3 $(PNG_LIBS) -lm -pthread
+	$(CC) $(CFLAGS) -std=c11 -Isrc $(LDFLAGS) -o $@ $< $(LIB) -lembree3 $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
 
 $(BUILD)/bin/lc-runstat: tools/runstat.c
 	@mkdir -p $(@D)

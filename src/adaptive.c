@@ -6,12 +6,13 @@
 #include "error.h"
 #include "mem.h"
 
-lc_status adaptive_init(adaptive *a, const lc_render_options *o, lc_error *err)
+lc_status adaptive_init(adaptive *a, const lc_render_options *o, int width, int height,
+                        lc_error *err)
 {
     memset(a, 0, sizeof *a);
-    size_t np = (size_t)o->width * (size_t)o->height;
-    a->width = o->width;
-    a->height = o->height;
+    size_t np = (size_t)width * (size_t)height;
+    a->width = width;
+    a->height = height;
     a->sum = mem_calloc(np, 6 * sizeof *a->sum);
     a->n = mem_calloc(np, sizeof *a->n);
     a->active = mem_alloc(np);

@@ -21,7 +21,9 @@ typedef struct {
     int       pass;
 } adaptive;
 
-lc_status adaptive_init(adaptive *a, const lc_render_options *o, lc_error *err);
+/* Over the width x height pixels traced (the frame, or a region and its margin). */
+lc_status adaptive_init(adaptive *a, const lc_render_options *o, int width, int height,
+                        lc_error *err);
 void      adaptive_free(adaptive *a);
 /* After a pass: marks the pixels to go on and sets the next target; 0 when
 ** none is left. */

@@ -30,6 +30,10 @@ lc_image *lc_image_new(int width, int height, lc_error *err)
     img->width = width;
     img->height = height;
     img->px = px;
+    img->alpha = NULL;
+    img->win.x0 = img->win.y0 = 0;
+    img->win.frame_width = width;
+    img->win.frame_height = height;
     error_ok(err);
     return img;
 }
@@ -39,7 +43,58 @@ void lc_image_free(lc_image *img)
     if (!img)
         return;
     mem_free(img->px);
+    mem_free(img->alpha);
     mem_free(img);
+}
+
+lc_status lc_image_add_alpha(lc_image *img, lc_error *err)
+{
+    size_t n = (size_t)img->width * img->height;
+    if (img->alpha) {
+        error_ok(err);
+        return LC_OK;
+    }
+    img->alpha = mem_alloc(n * sizeof *img->alpha);
+    if (!img->alpha)
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory for the alpha of a %dx%d "
+                          "image", img->width, img->height);
+    for (size_t i = 0; i < n; i++)
+        img->alpha[i] = 1;
+    error_ok(err);
+    return LC_OK;
+}
+
+int lc_image_has_alpha(const lc_image *img) { return img->alpha != NULL; }
+
+float lc_image_get_alpha(const lc_image *img, int x, int y)
+{
+    return img->alpha ? img->alpha[(size_t)y * img->width + x] : 1;
+}
+
+void lc_image_set_alpha(lc_image *img, int x, int y, float a)
+{
+    if (img->alpha)
+        img->alpha[(size_t)y * img->width + x] = a;
+}
+
+lc_window lc_image_window(const lc_image *img) { return img->win; }
+
+lc_status lc_image_set_window(lc_image *img, lc_window w, lc_error *err)
+{
+    if (w.frame_width < 1 || w.frame_height < 1 || w.frame_width > LC_MAX_SIDE ||
+        w.frame_height > LC_MAX_SIDE ||
+        (size_t)w.frame_width * (size_t)w.frame_height > LC_MAX_PIXELS)
+        return error_fail(err, LC_EARG, "window", "a frame of %dx%d is outside 1..%d a "
+                          "side and %zu pixels", w.frame_width, w.frame_height,
+                          LC_MAX_SIDE, LC_MAX_PIXELS);
+    if (w.x0 < 0 || w.y0 < 0 || w.x0 > w.frame_width - img->width ||
+        w.y0 > w.frame_height - img->height)
+        return error_fail(err, LC_EARG, "window", "a %dx%d image at (%d, %d) does not "
+                          "fit in a %dx%d frame", img->width, img->height, w.x0, w.y0,
+                          w.frame_width, w.frame_height);
+    img->win = w;
+    error_ok(err);
+    return LC_OK;
 }
 
 int lc_image_width(const lc_image *img) { return img->width; }
@@ -114,6 +169,16 @@ uint8_t lc_encode_channel(float linear, lc_encoding enc)
     while (threshold[k] <= v)
         k++;
     return (uint8_t)k;
+}
+
+uint16_t image_encode16(float linear, lc_encoding enc)
+{
+    double v = linear;
+    if (!(v > 0))
+        return 0;
+    if (v >= 1)
+        return 65535;
+    return (uint16_t)((enc == LC_ENCODE_LINEAR ? v : srgb(v)) * 65535 + 0.5);
 }
 
 lc_status lc_image_compare(const lc_image *a, const lc_image *b, double tol,

@@ -1,4 +1,4 @@
-/* image.h: the image's layout, shared by image.c, png.c and render.c. */
+/* image.h: the image's layout, shared by image.c, the file formats and render.c. */
 #ifndef LC_IMAGE_H
 #define LC_IMAGE_H
 
@@ -7,6 +7,11 @@
 struct lc_image {
     int    width, height;
     float *px;            /* linear RGB, row-major from the top-left */
+    float *alpha;         /* NULL, or one per pixel (coverage; colours premultiplied) */
+    lc_window win;        /* where it lies in its frame: (0, 0, width, height) if whole */
 };
+
+/* Clamped to [0, 1] (NaN reads as 0), encoded, rounded to nearest 16 bits. */
+uint16_t image_encode16(float linear, lc_encoding enc);
 
 #endif

@@ -1,21 +1,154 @@
-/* image_io.c: saving images in the format their file name asks for. */
+/* image_io.c: saving images in the format their file name asks for, with the
+** options of each format. */
 #include <string.h>
 #include <strings.h>
 #include "error.h"
+#include "image.h"
+#include "raster.h"
 
-lc_status lc_image_save(const lc_image *img, const char *path, lc_encoding enc,
-                        lc_error *err)
+lc_save_options lc_save_options_default(void)
 {
-    if (!*path)
-        return error_fail(err, LC_EARG, "path", "file name is empty");
+    lc_save_options o;
+    memset(&o, 0, sizeof o);
+    o.encoding = LC_ENCODE_SRGB;
+    o.depth = 8;
+    o.exr_pixel = LC_EXR_HALF;
+    o.exr_compression = LC_EXR_ZIP;
+    return o;
+}
+
+int raster_kind_of(const char *path, lc_error *err)
+{
+    if (!*path) {
+        error_fail(err, LC_EARG, "path", "file name is empty");
+        return -1;
+    }
     const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
     if (dot && slash && dot < slash)
         dot = NULL;                                 /* a dot in a folder's name */
     if (dot && strcasecmp(dot, ".png") == 0)
-        return lc_image_save_png(img, path, enc, err);
+        return RASTER_PNG;
+    if (dot && strcasecmp(dot, ".exr") == 0)
+        return RASTER_EXR;
     if (!dot || dot[1] == '\0')
-        return error_fail(err, LC_EARG, "path", "cannot write '%s': no extension (lancer "
-                       "writes .png)", path);
-    return error_fail(err, LC_EARG, "path", "cannot write '%s': unknown extension '%s' "
-                   "(lancer writes .png)", path, dot);
+        error_fail(err, LC_EARG, "path", "cannot write '%s': no extension (lancer "
+                   "writes .png and .exr)", path);
+    else
+        error_fail(err, LC_EARG, "path", "cannot write '%s': unknown extension '%s' "
+                   "(lancer writes .png and .exr)", path, dot);
+    return -1;
+}
+
+/* What the row function reads. */
+typedef struct {
+    const lc_image *img;
+    const raster_format *f;
+    int straight;             /* PNG with alpha: colours divided by it */
+} source;
+
+static void image_row(const void *ud, int y, unsigned char *out)
+{
+    const source *s = ud;
+    const lc_image *img = s->img;
+    const raster_format *f = s->f;
+    const float *px = img->px + (size_t)y * img->width * 3;
+    const float *al = img->alpha ? img->alpha + (size_t)y * img->width : NULL;
+    int ch = f->channels;
+    for (int x = 0; x < img->width; x++) {
+        float v[4] = {px[3 * x], px[3 * x + 1], px[3 * x + 2], al ? al[x] : 1};
+        if (s->straight)
+            for (int k = 0; k < 3; k++)
+                v[k] = v[3] > 0 ? v[k] / v[3] : 0;
+        for (int k = 0; k < ch; k++) {
+            size_t i = (size_t)x * ch + k;
+            lc_encoding enc = k == 3 ? LC_ENCODE_LINEAR : f->enc;  /* alpha is linear */
+            if (f->kind == RASTER_PNG && f->bytes == 1) {
+                out[i] = lc_encode_channel(v[k], enc);
+            } else if (f->kind == RASTER_PNG) {
+                uint16_t q = image_encode16(v[k], enc);
+                memcpy(out + 2 * i, &q, 2);
+            } else if (f->bytes == 2) {
+                uint16_t h = raster_half(v[k]);
+                memcpy(out + 2 * i, &h, 2);
+            } else {
+                memcpy(out + 4 * i, &v[k], 4);
+            }
+        }
+    }
+}
+
+static lc_status check_options(const lc_image *img, const lc_save_options *o,
+                               const char *path, lc_error *err)
+{
+    if (o->encoding != LC_ENCODE_SRGB && o->encoding != LC_ENCODE_LINEAR)
+        return error_fail(err, LC_EARG, "encoding", "unknown encoding %d", (int)o->encoding);
+    if (o->depth != 8 && o->depth != 16)
+        return error_fail(err, LC_EARG, "depth", "must be 8 or 16, got %d", o->depth);
+    if (o->exr_pixel != LC_EXR_HALF && o->exr_pixel != LC_EXR_FLOAT)
+        return error_fail(err, LC_EARG, "pixel", "unknown EXR pixel type %d",
+                          (int)o->exr_pixel);
+    if ((unsigned)o->exr_compression > LC_EXR_NONE)
+        return error_fail(err, LC_EARG, "compression", "unknown EXR compression %d",
+                          (int)o->exr_compression);
+    if (o->exr_tile < 0 || o->exr_tile > LC_MAX_EXR_TILE)
+        return error_fail(err, LC_EARG, "tile", "must be 0 (scanlines) or 1..%d, got %d",
+                          LC_MAX_EXR_TILE, o->exr_tile);
+    if (o->alpha && !img->alpha)
+        return error_fail(err, LC_EARG, "alpha", "cannot write '%s' with alpha: the image "
+                          "has none (render it with alpha = true)", path);
+    error_ok(err);
+    return LC_OK;
+}
+
+lc_status lc_image_save_with(const lc_image *img, const char *path,
+                             const lc_save_options *o, lc_error *err)
+{
+    int kind = raster_kind_of(path, err);
+    if (kind < 0)
+        return LC_EARG;
+    if (check_options(img, o, path, err))
+        return LC_EARG;
+    raster_format f;
+    memset(&f, 0, sizeof f);
+    f.kind = (raster_kind)kind;
+    f.width = img->width;
+    f.height = img->height;
+    f.channels = o->alpha ? 4 : 3;
+    f.win = img->win;
+    if (kind == RASTER_PNG) {
+        f.bytes = o->depth / 8;
+        f.enc = o->encoding;
+    } else {
+        f.bytes = o->exr_pixel == LC_EXR_HALF ? 2 : 4;
+        f.enc = LC_ENCODE_LINEAR;
+        f.compression = o->exr_compression;
+        f.tile = o->exr_tile;
+    }
+    source s = {img, &f, kind == RASTER_PNG && o->alpha};
+    return kind == RASTER_PNG ? png_write_raster(&f, image_row, &s, path, err)
+                              : exr_write_raster(&f, image_row, &s, path, err);
+}
+
+lc_status lc_image_save(const lc_image *img, const char *path, lc_encoding enc,
+                        lc_error *err)
+{
+    lc_save_options o = lc_save_options_default();
+    o.encoding = enc;
+    return lc_image_save_with(img, path, &o, err);
+}
+
+lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding enc,
+                            lc_error *err)
+{
+    raster_format f;                    /* whatever the name: PNG is what was asked */
+    memset(&f, 0, sizeof f);
+    f.kind = RASTER_PNG;
+    f.width = img->width;
+    f.height = img->height;
+    f.channels = 3;
+    f.bytes = 1;
+    f.win = img->win;
+    f.enc = enc;
+    source s = {img, &f, 0};
+    return png_write_raster(&f, image_row, &s, path, err);
 }

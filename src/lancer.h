@@ -429,6 +429,14 @@ typedef struct {
                              ** that the planned, specialised shading changes nothing) */
     lc_progress_fn progress; /* may be NULL */
     void    *progress_ud;
+    int      alpha;          /* 1: the image gets an alpha channel, the share of each
+                             ** pixel's camera samples that hit something; camera
+                             ** rays that miss add nothing (the background is
+                             ** transparent; reflections still see it) */
+    int      region[4];      /* x0, y0, x1, y1: only the pixels [x0, x1) x [y0, y1) of
+                             ** the width x height frame, each exactly as in the whole
+                             ** frame; the image is the region's size and knows where
+                             ** it lies (lc_image_window). All 0: the whole frame */
 } lc_render_options;
 
 #define LC_MAX_SAMPLES (1 << 20)      /* camera samples per pixel */
@@ -543,8 +551,9 @@ void      lc_image_set(lc_image *img, int x, int y, lc_color c);
 uint8_t   lc_encode_channel(float linear, lc_encoding enc); /* clamp, encode, round */
 lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding enc,
                             lc_error *err);             /* temp file, then rename */
-/* Saves in the format the path's extension names (.png, case-insensitive);
-** any other extension is refused, naming it, rather than written as PNG.
+/* Saves in the format the path's extension names (.png or .exr, any case,
+** with lc_save_options_default and enc: 8-bit PNG, half zip EXR); any other
+** extension is refused, naming it, rather than written as PNG.
 ** Saves are atomic: the image goes to TARGET.tmp-HOST-PID-XXXXXX, renamed
 ** over TARGET once whole; a target that is not a regular file (a device,
 ** a FIFO, a directory) is refused; a symbolic link is saved through; the
@@ -562,6 +571,63 @@ void      lc_save_abandon(void);
 ** v / (2^depth - 1), and drops alpha. Grey becomes RGB. Sizes past
 ** LC_MAX_SIDE or LC_MAX_PIXELS are refused, naming the cap. */
 lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err);
+
+/* An image may carry an alpha channel (a render with alpha, a file with one):
+** linear, one value per pixel; colours stay premultiplied by it in memory, as
+** a render makes them and as EXR stores them. */
+lc_status lc_image_add_alpha(lc_image *img, lc_error *err);  /* all 1; kept if there */
+int       lc_image_has_alpha(const lc_image *img);
+float     lc_image_get_alpha(const lc_image *img, int x, int y);   /* 1 without alpha */
+void      lc_image_set_alpha(lc_image *img, int x, int y, float a); /* no-op without */
+
+/* Where an image lies in its frame: a region render, or a part read back
+** from a file, covers [x0, x0 + width) x [y0, y0 + height) of a frame_width x
+** frame_height frame; every other image is its whole frame (0, 0, its size). */
+typedef struct { int x0, y0, frame_width, frame_height; } lc_window;
+lc_window lc_image_window(const lc_image *img);
+lc_status lc_image_set_window(lc_image *img, lc_window w, lc_error *err); /* fits */
+
+/* How lc_image_save_with writes. PNG: 8 or 16 bits per sample, sRGB or
+** linear, RGB or RGBA (straight alpha, as PNG defines it). EXR: linear
+** half or float channels R, G, B (and A), premultiplied, scanlines or tiles,
+** compressed. A part of a frame (lc_image_window) is saved with its place:
+** in EXR as its data window inside the frame's display window; in PNG as an
+** oFFs chunk (its offset in pixels) and a tEXt chunk "lancer:frame" holding
+** "W H", the frame's size. */
+typedef enum { LC_EXR_HALF, LC_EXR_FLOAT } lc_exr_pixel;
+typedef enum { LC_EXR_ZIP, LC_EXR_PIZ, LC_EXR_ZIPS, LC_EXR_RLE, LC_EXR_NONE } lc_exr_compression;
+typedef struct {
+    lc_encoding encoding;            /* PNG: sRGB (default) or linear; EXR is linear */
+    int         depth;               /* PNG: 8 (default) or 16 bits per sample */
+    int         alpha;               /* 1: write the alpha channel (the image needs one) */
+    lc_exr_pixel exr_pixel;          /* EXR: half (default) or float */
+    lc_exr_compression exr_compression;  /* EXR: zip (default) */
+    int         exr_tile;            /* EXR: 0 scanlines (default), else square tiles of
+                                     ** this side, 1..LC_MAX_EXR_TILE */
+} lc_save_options;
+
+#define LC_MAX_EXR_TILE 4096
+
+lc_save_options lc_save_options_default(void);       /* 8-bit sRGB; half, zip */
+/* As lc_image_save, by the extension (.png or .exr, case-insensitive), with
+** these options; half values past 65504 are written as +-65504. */
+lc_status lc_image_save_with(const lc_image *img, const char *path,
+                             const lc_save_options *o, lc_error *err);
+/* Reads the first part of an EXR file: R, G, B (Y as grey when there is no
+** colour; absent channels 0) and A when present, as float; its data window
+** inside its display window becomes the image's window. Corrupt or
+** truncated files, deep or unsupported parts and sizes past LC_MAX_SIDE or
+** LC_MAX_PIXELS are refused, naming the file. */
+lc_image *lc_image_load_exr(const char *path, lc_error *err);
+
+/* Assembles parts of one frame saved by lc_image_save_with (region renders)
+** into the whole frame at `out`, sample for sample: the same bytes as the
+** frame saved whole with the same options. The parts must all be PNG or all
+** EXR like `out`, of one frame size and one format (depth, channels,
+** encoding; pixel type, compression, tiling), cover the frame and not
+** overlap; otherwise the error names the part, or the first pixel missed. */
+lc_status lc_image_merge(const char *out, const char *const *parts, size_t n,
+                         lc_error *err);
 
 typedef struct {
     double mean_abs;      /* mean |a - b| over every channel */

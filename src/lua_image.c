@@ -1,4 +1,5 @@
-/* lua_image.c: images: making, saving, loading, pixels, comparing, measuring error. */
+/* lua_image.c: images: making, saving, loading, merging parts, pixels, comparing,
+** measuring error. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,29 +31,46 @@ static int w_image_free(lua_State *L)              /* __gc and __close */
 }
 
 static const char *const encoding_opts[] = {"srgb", "linear", NULL};
+static const char *const pixel_opts[] = {"half", "float", NULL};
+static const char *const compression_opts[] = {"zip", "piz", "zips", "rle", "none", NULL};
 
 /* Checks save's arguments: the image at 1, the path at 2, options at 3.
 ** Reading the options may run a script's metamethods: save_work checks the
 ** image again. */
-static void save_args(lua_State *L, lc_encoding *enc)
+static void save_args(lua_State *L, lc_save_options *o)
 {
-    static const char *const known[] = {"encoding", NULL};
+    static const char *const known[] = {"encoding", "depth", "alpha", "pixel",
+                                        "compression", "tile", NULL};
     check_image(L, 1);
     luaL_checktype(L, 2, LUA_TSTRING);       /* a number is no file name */
     lua_settop(L, 3);
-    *enc = LC_ENCODE_SRGB;
-    if (!lua_isnil(L, 3)) {
-        lf_open(L, 3, known);
-        *enc = (lc_encoding)lf_option(L, 3, "encoding", encoding_opts, 0);
-    }
+    *o = lc_save_options_default();
+    if (lua_isnil(L, 3))
+        return;
+    lf_open(L, 3, known);
+    o->encoding = (lc_encoding)lf_option(L, 3, "encoding", encoding_opts, 0);
+    o->depth = lf_integer(L, 3, "depth", 0, 8);
+    if (o->depth != 8 && o->depth != 16)
+        lf_error(L, 3, "depth", "must be 8 or 16, got %d", o->depth);
+    o->alpha = lf_boolean(L, 3, "alpha", 0);
+    o->exr_pixel = (lc_exr_pixel)lf_option(L, 3, "pixel", pixel_opts, 0);
+    o->exr_compression = (lc_exr_compression)lf_option(L, 3, "compression",
+                                                       compression_opts, 0);
+    o->exr_tile = lf_integer(L, 3, "tile", 0, 0);
+    if (o->exr_tile < 0 || o->exr_tile > LC_MAX_EXR_TILE)
+        lf_error(L, 3, "tile", "must be 0 (scanlines) or 1..%d, got %d", LC_MAX_EXR_TILE,
+                 o->exr_tile);
 }
 
 /* Saves the image at 1 to the path at 2. */
-static int save_work(lua_State *L, lc_encoding enc, int plain)
+static int save_work(lua_State *L, const lc_save_options *o, int plain)
 {
     lc_error err;
-    if (lc_image_save(check_image(L, 1), lua_tostring(L, 2), enc, &err))
+    if (lc_image_save_with(check_image(L, 1), lua_tostring(L, 2), o, &err)) {
+        if (strcmp(err.field, "alpha") == 0)
+            return hook_fail(L, plain, 3, lua_pushfstring(L, "field 'alpha': %s", err.msg));
         return hook_fail(L, plain, 2, err.msg);     /* names 'save' and the path */
+    }
     lua_settop(L, 1);
     return 1;
 }
@@ -60,18 +78,57 @@ static int save_work(lua_State *L, lc_encoding enc, int plain)
 /* The hook's plain save (lua_hook.c). */
 static int save_plain(lua_State *L)
 {
-    lc_encoding enc;
-    save_args(L, &enc);
-    return save_work(L, enc, 1);
+    lc_save_options o;
+    save_args(L, &o);
+    return save_work(L, &o, 1);
 }
 
-/* img:save(path [, {encoding = 'srgb'}]): the image, written by rename. */
+/* img:save(path [, {encoding, depth, alpha, pixel, compression, tile}]): the
+** image, written by rename, in the format the extension names. */
 static int w_image_save(lua_State *L)
 {
-    lc_encoding enc;
-    save_args(L, &enc);
+    lc_save_options o;
+    save_args(L, &o);
     int n = hook_call(L, "save", save_plain, 3);
-    return n >= 0 ? n : save_work(L, enc, 0);
+    return n >= 0 ? n : save_work(L, &o, 0);
+}
+
+/* lancer.load_exr(path): R, G, B and A when the file has it. */
+static int w_load_exr(lua_State *L)
+{
+    luaL_checktype(L, 1, LUA_TSTRING);
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    ui->img = NULL;
+    luaL_setmetatable(L, IMAGE);
+    lc_error err;
+    ui->img = lc_image_load_exr(lua_tostring(L, 1), &err);
+    if (!ui->img)
+        return luaL_argerror(L, 1, err.msg);
+    lancer_charge(L);
+    return 1;
+}
+
+/* lancer.merge(out, {part, ...}): the parts of one frame as the whole. */
+static int w_merge(lua_State *L)
+{
+    luaL_checktype(L, 1, LUA_TSTRING);
+    luaL_checktype(L, 2, LUA_TTABLE);
+    lua_Integer n = (lua_Integer)lua_rawlen(L, 2);
+    if (n < 1)
+        return luaL_argerror(L, 2, "no parts to merge (a list of file names expected)");
+    const char **parts = lua_newuserdatauv(L, (size_t)n * sizeof *parts, 0);
+    for (lua_Integer i = 1; i <= n; i++) {
+        if (lua_rawgeti(L, 2, i) != LUA_TSTRING)
+            return luaL_argerror(L, 2, lua_pushfstring(L, "item %I: file name expected, "
+                                                       "got %s", i, luaL_typename(L, -1)));
+        parts[i - 1] = lua_tostring(L, -1);        /* kept alive by the table */
+        lua_pop(L, 1);
+    }
+    lc_error err;
+    if (lc_image_merge(lua_tostring(L, 1), parts, (size_t)n, &err))
+        return luaL_argerror(L, strcmp(err.field, "parts") == 0 ? 2 : 1, err.msg);
+    lua_settop(L, 1);
+    return 1;
 }
 
 static int w_load_png(lua_State *L)
@@ -137,10 +194,14 @@ static int w_image_pixel(lua_State *L)
     lua_pushnumber(L, c.r);
     lua_pushnumber(L, c.g);
     lua_pushnumber(L, c.b);
-    return 3;
+    if (!lc_image_has_alpha(img))
+        return 3;
+    lua_pushnumber(L, lc_image_get_alpha(img, (int)x - 1, (int)y - 1));
+    return 4;
 }
 
-/* img:set(x, y, r, g, b): 1-based like pixel; linear values, stored as given. */
+/* img:set(x, y, r, g, b [, a]): 1-based like pixel; linear values, stored as
+** given; a gives the image an alpha channel (1 elsewhere) if it has none. */
 static int w_image_set(lua_State *L)
 {
     lc_image *img = check_image(L, 1);
@@ -152,6 +213,14 @@ static int w_image_set(lua_State *L)
         return luaL_argerror(L, 2, lua_pushfstring(L, "x must be in [1, %d], got %I", w, x));
     if (y < 1 || y > h)
         return luaL_argerror(L, 3, lua_pushfstring(L, "y must be in [1, %d], got %I", h, y));
+    if (!lua_isnoneornil(L, 7)) {
+        float a = (float)luaL_checknumber(L, 7);
+        lc_error err;
+        if (lc_image_add_alpha(img, &err))
+            return luaL_error(L, "%s", err.msg);
+        lc_image_set_alpha(img, (int)x - 1, (int)y - 1, a);
+        lancer_charge(L);
+    }
     lc_image_set(img, (int)x - 1, (int)y - 1, c);
     return 0;
 }
@@ -232,6 +301,22 @@ static int w_image_index(lua_State *L)
         lua_pushinteger(L, lc_image_width(check_image(L, 1)));
     } else if (strcmp(k, "height") == 0) {
         lua_pushinteger(L, lc_image_height(check_image(L, 1)));
+    } else if (strcmp(k, "alpha") == 0) {
+        lua_pushboolean(L, lc_image_has_alpha(check_image(L, 1)));
+    } else if (strcmp(k, "region") == 0 || strcmp(k, "frame") == 0) {
+        /* region: {x0, y0, x1, y1} in pixel edges, as render's option; frame:
+        ** {width, height} of the frame it is part of. */
+        lc_image *img = check_image(L, 1);
+        lc_window w = lc_image_window(img);
+        int v[4] = {w.x0, w.y0, w.x0 + lc_image_width(img), w.y0 + lc_image_height(img)};
+        int nv = k[0] == 'r' ? 4 : 2;
+        if (nv == 2)
+            v[0] = w.frame_width, v[1] = w.frame_height;
+        lua_createtable(L, nv, 0);
+        for (int i = 0; i < nv; i++) {
+            lua_pushinteger(L, v[i]);
+            lua_rawseti(L, -2, i + 1);
+        }
     } else {
         luaL_getmetafield(L, 1, "methods");
         lua_getfield(L, -1, k);
@@ -252,6 +337,10 @@ void image_register(lua_State *L)
     lancer_class(L, IMAGE, image_meta, image_methods);
     lua_pushcfunction(L, w_load_png);
     lua_setfield(L, -2, "load_png");
+    lua_pushcfunction(L, w_load_exr);
+    lua_setfield(L, -2, "load_exr");
+    lua_pushcfunction(L, w_merge);
+    lua_setfield(L, -2, "merge");
     lua_pushcfunction(L, w_image);
     lua_setfield(L, -2, "image");
 }

@@ -104,6 +104,27 @@ void render_read_options(lua_State *L, int arg, lc_render_options *o)
     o->noise = lf_number(L, arg, "noise", 0, o->noise);
     o->min_samples = lf_integer(L, arg, "min_samples", 0, o->min_samples);
     o->glossy = lf_boolean(L, arg, "glossy", 1);
+    o->alpha = lf_boolean(L, arg, "alpha", 0);
+    /* region = {x0, y0, x1, y1}: whole numbers; the core checks they fit. */
+    if (lua_getfield(L, arg, "region") != LUA_TNIL) {
+        if (lua_type(L, -1) != LUA_TTABLE)
+            lf_error(L, arg, "region", "{x0, y0, x1, y1} expected, got %s",
+                     luaL_typename(L, -1));
+        if (lua_rawlen(L, -1) != 4)
+            lf_error(L, arg, "region", "{x0, y0, x1, y1} expected, got %d values",
+                     (int)lua_rawlen(L, -1));
+        for (int k = 0; k < 4; k++) {
+            int isint;
+            lua_rawgeti(L, -1, k + 1);
+            lua_Integer v = lua_tointegerx(L, -1, &isint);
+            if (!isint || v < 0 || v > LC_MAX_SIDE)
+                lf_error(L, arg, "region", "item %d: a whole number in [0, %d] expected, "
+                         "got %s", k + 1, LC_MAX_SIDE, luaL_tolstring(L, -1, NULL));
+            o->region[k] = (int)v;
+            lua_pop(L, 1);
+        }
+    }
+    lua_pop(L, 1);
 }
 
 /* Checks render's arguments: the scene at 1, the options at 2 (a table

@@ -88,7 +88,7 @@ lc_scene *scene_at(lua_State *L, int idx);
 #define RENDER_OPTIONS "width", "height", "samples", "seed", "threads", "cosine", \
                        "cutoff", "shadows", "reflections", "specular", "generic", \
                        "frame", "sampler", "light_samples", "cone_samples", "max_depth", \
-                       "noise", "min_samples", "glossy"
+                       "noise", "min_samples", "glossy", "alpha", "region"
 void render_read_options(lua_State *L, int arg, lc_render_options *o);
 
 /* lua_hook.c: the host hook (lancer.set_host_hook; the comment there says

@@ -1,6 +1,7 @@
 /* main.c: the lancer command: runs scripts and one-liners, with Ctrl-C armed;
 ** main_args.c reads its command line, main_repl.c is its prompt, main_caps.c
-** and main_sandbox.c are --max-memory, --max-seconds and --sandbox. */
+** and main_sandbox.c are --max-memory, --max-seconds and --sandbox,
+** main_defines.c is -D and main_merge.c --merge. */
 #define _XOPEN_SOURCE 700           /* realpath */
 #include <limits.h>
 #include <signal.h>
@@ -250,12 +251,12 @@ static void register_modules(lua_State *L)
 }
 
 /* Fixed seed: a script that jitters with math.random renders the same
-** image on every run (Lua 5.4 seeds it randomly otherwise). */
-static void seed_random(lua_State *L)
+** image on every run (Lua 5.4 seeds it randomly otherwise); --seed's. */
+static void seed_random(lua_State *L, lua_Integer seed)
 {
     lua_getglobal(L, "math");
     lua_getfield(L, -1, "randomseed");
-    lua_pushinteger(L, 0);
+    lua_pushinteger(L, seed);
     lua_call(L, 1, 0);
     lua_pop(L, 1);
 }
@@ -343,6 +344,30 @@ static int host_setup(lua_State *L)
     set_integer(L, "width", cl->width);
     set_integer(L, "height", cl->height);
     set_integer(L, "samples", cl->samples);
+    if (cl->seed >= 0) {
+        lua_pushinteger(L, cl->seed);
+        lua_setfield(L, -2, "seed");
+    }
+    if (cl->threads >= 0) {
+        lua_pushinteger(L, cl->threads);
+        lua_setfield(L, -2, "threads");
+    }
+    if (cl->has_region) {
+        lua_createtable(L, 4, 0);
+        for (int k = 0; k < 4; k++) {
+            lua_pushinteger(L, cl->region[k]);
+            lua_rawseti(L, -2, k + 1);
+        }
+        lua_setfield(L, -2, "region");
+    }
+    if (cl->tile_n > 0) {
+        lua_createtable(L, 2, 0);
+        lua_pushinteger(L, cl->tile_k);
+        lua_rawseti(L, -2, 1);
+        lua_pushinteger(L, cl->tile_n);
+        lua_rawseti(L, -2, 2);
+        lua_setfield(L, -2, "tile");
+    }
     set_boolean(L, "check", cl->check);
     set_boolean(L, "stats", cl->stats);
     set_boolean(L, "repl", repl);
@@ -459,7 +484,7 @@ static int pmain(lua_State *L)
     register_modules(L);
     if (!cl->allow_bytecode && !cl->sandbox)
         sandbox_text_only(L);           /* the sandbox's seal does it too */
-    seed_random(L);
+    seed_random(L, cl->seed >= 0 ? cl->seed : 0);
     create_arg_table(L, cl);
     lua_gc(L, LUA_GCRESTART);
     lua_gc(L, LUA_GCGEN, 0, 0);         /* lua5.4's mode, for like timings */
@@ -476,6 +501,18 @@ static int pmain(lua_State *L)
     lua_pop(L, 2);
     if (cl->sandbox && seal(L, cl) != LUA_OK)
         return 0;
+    if (cl->ndefines > 0) {                     /* -D NAME=VALUE */
+        lua_pushcfunction(L, defines_set);
+        lua_pushlightuserdata(L, cl);
+        if (host_report(L, host_docall(L, 1, 2)) != LUA_OK)
+            return 0;
+        if (!lua_toboolean(L, -2)) {
+            args_usage_error("%s", lua_tostring(L, -1));
+            cl->late_usage = 1;
+            return 0;
+        }
+        lua_pop(L, 2);
+    }
     if (!cl->sandbox && (cl->max_memory > 0 || cl->max_seconds > 0)) {
         lua_pushcfunction(L, sandbox_hook);    /* the time cap's word on renders */
         if (host_report(L, host_docall(L, 0, 0)) != LUA_OK)
@@ -525,6 +562,8 @@ int main(int argc, char **argv)
     signal(SIGXFSZ, SIG_IGN);     /* past ulimit -f a write fails, and says so */
     cl.max_memory = -1;
     cl.max_seconds = -1;
+    cl.seed = -1;
+    cl.threads = -1;
     if (argc < 1 || argv[0] == NULL) {      /* exec with no argv[0] */
         fprintf(stderr, "lancer: no program name\n");
         return 2;
@@ -532,11 +571,14 @@ int main(int argc, char **argv)
     cl.chunks = malloc((size_t)argc * sizeof *cl.chunks);
     cl.anim.frames = malloc((size_t)argc * sizeof *cl.anim.frames);
     cl.anim.frame_flags = malloc((size_t)argc * sizeof *cl.anim.frame_flags);
-    if (cl.chunks == NULL || cl.anim.frames == NULL || cl.anim.frame_flags == NULL) {
+    cl.defines = malloc((size_t)argc * sizeof *cl.defines);
+    if (cl.chunks == NULL || cl.anim.frames == NULL || cl.anim.frame_flags == NULL ||
+        cl.defines == NULL) {
         fprintf(stderr, "lancer: not enough memory\n");
         free(cl.chunks);
         free(cl.anim.frames);
         free(cl.anim.frame_flags);
+        free(cl.defines);
         return 1;
     }
     parsed = args_parse(&cl);
@@ -544,11 +586,13 @@ int main(int argc, char **argv)
         parsed = args_check_accuracy(&cl);
     if (parsed == PARSE_RUN)
         parsed = args_check_limits(&cl);
-    if (parsed != PARSE_RUN) {
+    if (parsed != PARSE_RUN || cl.merge) {
+        int code = parsed != PARSE_RUN ? (parsed == PARSE_DONE ? 0 : 2) : merge_run(&cl);
         free(cl.chunks);
         free(cl.anim.frames);
         free(cl.anim.frame_flags);
-        return parsed == PARSE_DONE ? 0 : 2;
+        free(cl.defines);
+        return code;
     }
 
     capped = command_caps(&cl, &caps);
@@ -558,6 +602,7 @@ int main(int argc, char **argv)
         free(cl.chunks);
         free(cl.anim.frames);
         free(cl.anim.frame_flags);
+        free(cl.defines);
         return 1;
     }
     lua_gc(L, LUA_GCSTOP);              /* no collection while building state */
@@ -570,6 +615,7 @@ int main(int argc, char **argv)
     free(cl.chunks);
     free(cl.anim.frames);
     free(cl.anim.frame_flags);
+    free(cl.defines);
     if (timed_out)
         return 4;
     if (cl.unstable)

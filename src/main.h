@@ -51,6 +51,14 @@ struct cmdline {
     lua_Integer max_memory; /* --max-memory MB; -1: not given, 0: no cap */
     double max_seconds;     /* --max-seconds S; -1: not given, 0: no cap */
     int allow_bytecode;     /* --allow-bytecode */
+    lua_Integer seed;       /* --seed N; -1: not given */
+    lua_Integer threads;    /* --threads N; -1: not given */
+    const char **defines;   /* -D name=value, as given; ndefines of them */
+    int ndefines;
+    int region[4];          /* --region x0,y0,x1,y1 */
+    int has_region;
+    int tile_k, tile_n;     /* --tile K/N; tile_n 0: not given */
+    int merge;              /* --merge: argv index of OUT; 0: not given */
 };
 
 /* What parsing the command line says to do next. */
@@ -111,6 +119,13 @@ int  sandbox_hook(lua_State *L);
 int  sandbox_seal(lua_State *L);
 /* luaL_openlibs without debug. */
 void sandbox_openlibs(lua_State *L);
+
+/* main_merge.c: lancer --merge OUT PARTS...; the exit status. */
+int merge_run(const struct cmdline *cl);
+/* main_defines.c: sets each -D name=value as a global (a number when the
+** value reads as one); false, with a usage error printed, for a bad one.
+** A lua_CFunction: the cmdline as light userdata at 1. */
+int defines_set(lua_State *L);
 
 /* main_repl.c: the interactive prompt. */
 void repl_run(lua_State *L);

@@ -1,5 +1,6 @@
 /* main_args.c: the lancer command's options, all checked before anything runs. */
 #include <limits.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,6 +33,12 @@ static void print_usage(void)
 "                                frames 1 to 24 of it, those not yet written\n"
 "  lancer --accuracy --knob samples=1,4,16,64 scene.lua\n"
 "                                error against time over those levels\n"
+"  lancer -D size=2 -D name=ball --seed 7 scene.lua\n"
+"                                globals size (2, a number) and name ('ball')\n"
+"  lancer --tile 1/4 scene.lua out.exr\n"
+"                                the second quarter of the rows: out.tile-1-of-4.exr\n"
+"  lancer --merge out.exr out.tile-*-of-4.exr\n"
+"                                the four parts as the whole frame\n"
 "  lancer                        the interactive prompt\n"
 "\n"
 "Options go before the script: whatever follows it is the script's, as with\n"
@@ -44,6 +51,12 @@ static void print_usage(void)
 "  --width W     render at width W, whatever the script asks (positive integer)\n"
 "  --height H    render at height H, likewise\n"
 "  --samples N   take N samples per pixel, likewise\n"
+"  --seed N      render with seed N (a whole number from 0), likewise; and\n"
+"                math.random starts from N (animation frames: from N and the frame)\n"
+"  --threads N   render on N threads (0: one per core), likewise\n"
+"  -D NAME=VALUE set the global NAME before the script runs: a number when VALUE\n"
+"                reads as a Lua number (2, 0.5, 1e3, 0x10), else the string\n"
+"                (may be repeated; NAME may not be a global Lua already has)\n"
 "  --stats       print each render's ledger: rays by kind, tests, phases, effects\n"
 "  --check       render each image small at scales 1e-3, 1, 1e3 and moved 1e6\n"
 "                away; report differing pixels, NaN and self-hits (exit 3 if\n"
@@ -52,7 +65,7 @@ static void print_usage(void)
 "\n"
 "Animations (scripts calling lancer.animate{...}; frames are numbered from 1\n"
 "unless the script sets 'first'):\n"
-"  --frames LIST frames to render: 7, 1-48, 1-48:4 (every 4th), 1,5,9-12\n"
+"  --frames LIST frames to render: 7, 1-48, 1-48:4 or 1-48x4 (every 4th), 1,5,9-12\n"
 "  --frame N     the same as --frames N\n"
 "  --shard K/N   of those, only frames whose number mod N is K (0 <= K < N)\n"
 "  --skip-existing\n"
@@ -63,6 +76,17 @@ static void print_usage(void)
 "  --video FILE  then assemble every frame with ffmpeg (.mp4 .mkv .mov .webm .gif)\n"
 "  Each frame logs one line on stderr; a failed frame does not stop the others,\n"
 "  and the exit status is then 1.\n"
+"\n"
+"One frame across machines (the manual's \"Render farms\"):\n"
+"  --region X0,Y0,X1,Y1\n"
+"                render only the pixels X0 <= x < X1, Y0 <= y < Y1 of each frame\n"
+"                (pixel edges from 0 at the top-left), each as in the whole frame;\n"
+"                saves go to NAME.region-X0-Y0-X1-Y1.EXT, holding their place\n"
+"  --tile K/N    the same for tile K of N (0 <= K < N): rows H*K/N to H*(K+1)/N,\n"
+"                saved to NAME.tile-K-of-N.EXT\n"
+"  --merge OUT PART...\n"
+"                assemble the parts of one frame into OUT (all .png or all .exr):\n"
+"                the same bytes as the frame saved whole; nothing else runs\n"
 "\n"
 "  --accuracy    render each image the script asks for at every level of each\n"
 "                --knob, against a reference 16x the largest; print error, time\n"
@@ -111,7 +135,8 @@ static const char *const long_options[] = {
     "--width", "--height", "--samples", "--stats", "--check", "--frames", "--frame",
     "--shard", "--skip-existing", "--list-frames", "--video", "--output",
     "--accuracy", "--knob", "--seeds", "--out", "--sandbox", "--sandbox-out",
-    "--max-memory", "--max-seconds", "--allow-bytecode", "--help", "--version", NULL};
+    "--max-memory", "--max-seconds", "--allow-bytecode", "--help", "--version",
+    "--seed", "--threads", "--region", "--tile", "--merge", NULL};
 
 /* argv's word without its "=value". */
 static void option_name(const char *arg, char *out, size_t n)
@@ -242,7 +267,7 @@ static int frame_number(const char **s, long *out)
     return 1;
 }
 
-/* Reads a --frames list: items N, A-B or A-B:S separated by commas. With L,
+/* Reads a --frames list: items N, A-B, A-B:S or A-BxS, separated by commas. With L,
 ** appends each item as {A, B, S, option = flag} to the table on top of L's
 ** stack. Returns NULL, or why the list is wrong. */
 const char *args_frame_list(const char *s, const char *flag, lua_State *L)
@@ -254,10 +279,11 @@ const char *args_frame_list(const char *s, const char *flag, lua_State *L)
         b = a;
         if (*s == '-' && (s++, !frame_number(&s, &b)))
             return "a range is A-B";
-        if (*s == ':' && (s++, !frame_number(&s, &step) || step < 1))
+        /* A-B:S, or A-BxS as render farm tools write it (Deadline, Tractor). */
+        if ((*s == ':' || *s == 'x') && (s++, !frame_number(&s, &step) || step < 1))
             return "a step is a whole number from 1";
         if (*s != ',' && *s != '\0')
-            return "items are N, A-B or A-B:STEP, separated by commas";
+            return "items are N, A-B, A-B:STEP or A-BxSTEP, separated by commas";
         if (b < a)
             return "a range A-B needs A <= B";
         if (L) {
@@ -329,7 +355,7 @@ static int parse_anim_option(struct cmdline *cl, int *i, int *st)
             fprintf(stderr, "lancer: option '%s' needs frames like 7, 1-48, 1-48:2 or "
                     "1,5,9-12, got '%s' (%s); try 'lancer --help'\n", name, v, why);
             *st = PARSE_USAGE;
-        } else if (strcmp(name, "--frame") == 0 && strpbrk(v, ",-:")) {
+        } else if (strcmp(name, "--frame") == 0 && strpbrk(v, ",-:x")) {
             *st = bad_value(name, "one frame number (--frames takes lists)", v);
         } else {
             an->frame_flags[an->nframes] = name;
@@ -455,6 +481,11 @@ int args_check_limits(const struct cmdline *cl)
                  (cl->script == 0 && cl->nchunks == 0 && isatty(STDIN_FILENO));
     if (cl->sandbox_out && !cl->sandbox)
         return args_usage_error("option '%s' needs --sandbox", "--sandbox-out");
+    if (cl->has_region && cl->tile_n)
+        return args_usage_error("option '%s' cannot go with --tile", "--region");
+    if ((cl->has_region || cl->tile_n) && cl->anim.video)
+        return args_usage_error("option '%s' cannot go with --region or --tile (merge "
+                                "the parts first)", "--video");
     if (!cl->sandbox) {
         if (prompt && cl->max_seconds > 0)
             return args_usage_error("option '%s' cannot go with the prompt",
@@ -473,6 +504,82 @@ int args_check_limits(const struct cmdline *cl)
     if (prompt)
         return args_usage_error("option '%s' runs a script, '-' or -e code, not the "
                                 "prompt", "--sandbox");
+    return PARSE_RUN;
+}
+
+/* ---- Seeds, threads, globals, parts of a frame ----------------------------- */
+
+/* Digits only, from 0 up to max; moves *s past them. */
+static int whole_number(const char **s, lua_Integer max, lua_Integer *out)
+{
+    lua_Integer v = 0;
+    if (**s < '0' || **s > '9')
+        return 0;
+    for (; **s >= '0' && **s <= '9'; ++*s) {
+        if (v > (max - (**s - '0')) / 10)
+            return 0;
+        v = v * 10 + (**s - '0');
+    }
+    *out = v;
+    return 1;
+}
+
+/* "--seed N" (0 up to 2^63 - 1) or "--threads N" (0 up to LC_MAX_THREADS). */
+static int parse_count(struct cmdline *cl, int *i, const char *name, lua_Integer max,
+                       lua_Integer *out, const char *want)
+{
+    const char *v = option_value(cl, i, name), *p = v;
+    if (v == NULL || *v == '\0')
+        return args_usage_error("option '%s' needs a value", name);
+    if (!whole_number(&p, max, out) || *p)
+        return bad_value(name, want, v);
+    return PARSE_RUN;
+}
+
+/* "-D NAME=VALUE" or "-DNAME=VALUE"; the name is checked once Lua runs. */
+static int parse_define(struct cmdline *cl, int *i)
+{
+    const char *a = cl->argv[*i], *v = a[2] ? a + 2 : cl->argv[*i + 1];
+    if (v == NULL)
+        return args_usage_error("option '%s' needs NAME=VALUE", "-D");
+    if (!a[2])
+        ++*i;
+    if (!strchr(v, '=') || v[0] == '=')
+        return bad_value("-D", "NAME=VALUE, such as size=2", v);
+    cl->defines[cl->ndefines++] = v;
+    return PARSE_RUN;
+}
+
+/* "--region X0,Y0,X1,Y1": pixel edges, X0 < X1 and Y0 < Y1. */
+static int parse_region(struct cmdline *cl, int *i)
+{
+    const char *v = option_value(cl, i, "--region"), *p = v;
+    lua_Integer r[4];
+    if (v == NULL || *v == '\0')
+        return args_usage_error("option '%s' needs a value", "--region");
+    for (int k = 0; k < 4; k++)
+        if (!whole_number(&p, LC_MAX_SIDE, &r[k]) || *p++ != (k < 3 ? ',' : '\0'))
+            return bad_value("--region", "X0,Y0,X1,Y1, four whole numbers such as "
+                             "0,0,320,240", v);
+    if (r[0] >= r[2] || r[1] >= r[3])
+        return bad_value("--region", "X0 < X1 and Y0 < Y1", v);
+    for (int k = 0; k < 4; k++)
+        cl->region[k] = (int)r[k];
+    cl->has_region = 1;
+    return PARSE_RUN;
+}
+
+static int parse_tile(struct cmdline *cl, int *i)
+{
+    const char *v = option_value(cl, i, "--tile"), *p = v;
+    lua_Integer k = 0, n = 0;
+    if (v == NULL || *v == '\0')
+        return args_usage_error("option '%s' needs a value", "--tile");
+    if (!whole_number(&p, LC_MAX_SIDE, &k) || *p++ != '/' ||
+        !whole_number(&p, LC_MAX_SIDE, &n) || *p || n < 1 || k >= n)
+        return bad_value("--tile", "K/N with 0 <= K < N, such as 0/4", v);
+    cl->tile_k = (int)k;
+    cl->tile_n = (int)n;
     return PARSE_RUN;
 }
 
@@ -541,6 +648,25 @@ int args_parse(struct cmdline *cl)
             st = parse_seconds(cl, &i);
         } else if (strcmp(a, "--allow-bytecode") == 0) {
             cl->allow_bytecode = 1;
+        } else if (is_opt(a, "--seed")) {
+            st = parse_count(cl, &i, "--seed", INT64_MAX, &cl->seed,
+                             "a whole number from 0");
+        } else if (is_opt(a, "--threads")) {
+            st = parse_count(cl, &i, "--threads", LC_MAX_THREADS, &cl->threads,
+                             "a whole number of threads from 0 (one per core) to 256");
+        } else if (strncmp(a, "-D", 2) == 0) {
+            st = parse_define(cl, &i);
+        } else if (is_opt(a, "--region")) {
+            st = parse_region(cl, &i);
+        } else if (is_opt(a, "--tile")) {
+            st = parse_tile(cl, &i);
+        } else if (strcmp(a, "--merge") == 0) {
+            if (argv[i + 1] == NULL || argv[i + 2] == NULL)
+                return args_usage_error("option '%s' needs OUT and at least one part",
+                                        "--merge");
+            cl->merge = i + 1;
+            cl->script = 0;
+            return PARSE_RUN;
         } else {
             return unknown_option(a);
         }

@@ -175,7 +175,7 @@ static int refuse_fail(lua_State *L, const char *path, int writing)
     return 3;
 }
 
-/* io.open, lancer.load_obj, lancer.load_png, io.lines, io.input: argument 1,
+/* io.open, lancer.load_obj, lancer.load_png, lancer.load_exr, io.lines, io.input: argument 1,
 ** when a name, is a file to read (io.open: or write, by its mode). */
 static int w_io_open(lua_State *L)
 {
@@ -190,6 +190,23 @@ static int w_read_arg(lua_State *L)
 {
     if (lua_isstring(L, 1) && !allowed(L, lua_tostring(L, 1), 0))
         return refuse_arg(L, 1, lua_tostring(L, 1), 0);
+    return ORIGINAL(L)(L);
+}
+
+/* lancer.merge(out, {part, ...}): out is written, each part read; the list
+** is read raw, as the binding reads it, so what is checked is what is used. */
+static int w_merge_args(lua_State *L)
+{
+    if (lua_isstring(L, 1) && !allowed(L, lua_tostring(L, 1), 1))
+        return refuse_arg(L, 1, lua_tostring(L, 1), 1);
+    if (lua_type(L, 2) == LUA_TTABLE)
+        for (lua_Integer i = 1; i <= (lua_Integer)lua_rawlen(L, 2); i++) {
+            int bad = lua_rawgeti(L, 2, i) == LUA_TSTRING &&
+                      !allowed(L, lua_tostring(L, -1), 0);
+            if (bad)
+                return refuse_arg(L, 2, lua_tostring(L, -1), 0);
+            lua_pop(L, 1);
+        }
     return ORIGINAL(L)(L);
 }
 
@@ -576,6 +593,10 @@ int sandbox_seal(lua_State *L)
     install_hook(L, core, P);
     wrap_loader(L, core, "load_obj", P);
     wrap_loader(L, core, "load_png", P);
+    wrap_loader(L, core, "load_exr", P);
+    lua_getfield(L, core, "merge");
+    push_wrapper(L, w_merge_args, P);
+    replace_everywhere(L, core, "merge");
     lua_pushnil(L);
     replace_everywhere(L, core, "set_host_hook");
 

@@ -1,5 +1,5 @@
-/* png.c: writing images as 8-bit PNG through libpng, atomically, and reading
-** any PNG back. */
+/* png.c: writing PNG through libpng (8 or 16 bits, RGB or RGBA, a part of a
+** frame with its place), atomically, and reading any PNG back. */
 #include <errno.h>
 #include <math.h>
 #include <png.h>
@@ -10,6 +10,7 @@
 #include <unistd.h>
 #include "error.h"
 #include "image.h"
+#include "raster.h"
 #include "save.h"
 #include "mem.h"
 
@@ -31,9 +32,26 @@ static void on_png_warning(png_structp png, png_const_charp msg)
     (void)msg;                 /* the core never prints */
 }
 
+static int little_endian(void)
+{
+    uint16_t one = 1;
+    unsigned char first;
+    memcpy(&first, &one, 1);
+    return first == 1;
+}
+
+/* The tEXt keyword that holds the frame's size, "W H", in a part of a frame. */
+#define FRAME_KEY "lancer:frame"
+
+static int whole(const lc_window *w, int width, int height)
+{
+    return w->x0 == 0 && w->y0 == 0 && w->frame_width == width &&
+           w->frame_height == height;
+}
+
 /* Writes rows to an open file; returns 0 or fills err. */
-static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const char *path,
-                           lc_error *err)
+static lc_status write_png(FILE *fp, const raster_format *f, raster_row_fn fill,
+                           const void *ud, const char *path, lc_error *err)
 {
     png_failure fail = {""};
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &fail,
@@ -55,21 +73,34 @@ static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const
     ** for files about a third larger (measured on B1, 1280x720). */
     png_set_compression_level(png, 3);
     png_set_filter(png, 0, PNG_FILTER_SUB);
-    png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height, 8,
-                 PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-                 PNG_FILTER_TYPE_DEFAULT);
-    if (enc == LC_ENCODE_SRGB)
+    png_set_IHDR(png, info, (png_uint_32)f->width, (png_uint_32)f->height, 8 * f->bytes,
+                 f->channels == 4 ? PNG_COLOR_TYPE_RGB_ALPHA : PNG_COLOR_TYPE_RGB,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (f->enc == LC_ENCODE_SRGB)
         png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
     else
         png_set_gAMA(png, info, 1.0);   /* as POV-Ray and Tachyon do for linear output */
+    char size[32];
+    png_text text;
+    if (!whole(&f->win, f->width, f->height)) {
+        /* A part of a frame: where it goes (oFFs, a registered chunk) and the
+        ** frame's size, so lancer --merge needs nothing beside the file. */
+        png_set_oFFs(png, info, f->win.x0, f->win.y0, PNG_OFFSET_PIXEL);
+        snprintf(size, sizeof size, "%d %d", f->win.frame_width, f->win.frame_height);
+        memset(&text, 0, sizeof text);
+        text.compression = PNG_TEXT_COMPRESSION_NONE;
+        text.key = (char *)FRAME_KEY;
+        text.text = size;
+        png_set_text(png, info, &text, 1);
+    }
     png_write_info(png, info);
-    row = mem_alloc((size_t)img->width * 3);
+    if (f->bytes == 2 && little_endian())
+        png_set_swap(png);              /* PNG samples are big-endian */
+    row = mem_alloc((size_t)f->width * f->channels * f->bytes);
     if (!row)
         png_error(png, "out of memory");
-    for (int y = 0; y < img->height; y++) {
-        const float *src = img->px + (size_t)y * img->width * 3;
-        for (int i = 0; i < img->width * 3; i++)
-            row[i] = lc_encode_channel(src[i], enc);
+    for (int y = 0; y < f->height; y++) {
+        fill(ud, y, row);
         png_write_row(png, row);
     }
     png_write_end(png, info);
@@ -81,13 +112,13 @@ static lc_status write_png(FILE *fp, const lc_image *img, lc_encoding enc, const
 /* The image goes to a temporary file beside the target, is flushed to disk,
 ** and only then renamed over it (save.c): a crash or a full disk never leaves
 ** a truncated PNG, and an existing file survives any failure. */
-lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding enc,
-                            lc_error *err)
+lc_status png_write_raster(const raster_format *f, raster_row_fn row, const void *ud,
+                           const char *path, lc_error *err)
 {
     save_file sf;
     if (save_begin(&sf, path, err))
         return err ? err->code : LC_EIO;
-    if (write_png(sf.fp, img, enc, path, err)) {
+    if (write_png(sf.fp, f, row, ud, path, err)) {
         save_abort(&sf);
         return err ? err->code : LC_EIO;
     }
@@ -327,4 +358,99 @@ static lc_image *load_stored(const char *path, lc_error *err)
 lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
 {
     return enc == LC_ENCODE_SRGB ? load_decoded(path, err) : load_stored(path, err);
+}
+
+/* A part as lancer wrote it, samples untouched (16-bit ones in the machine's
+** order): for lancer --merge. */
+lc_status png_read_raster(const char *path, raster_format *f, unsigned char **data,
+                          lc_error *err)
+{
+    *data = NULL;
+    memset(f, 0, sizeof *f);
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return error_fail(err, LC_EIO, "path", "cannot open '%s': %s", path,
+                          strerror(errno));
+    png_failure fail = {""};
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &fail, on_png_error,
+                                             on_png_warning);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    unsigned char *volatile pixels = NULL;
+    lc_status volatile refused = LC_OK;
+    if (!png || !info || setjmp(png_jmpbuf(png))) {
+        png_destroy_read_struct(png ? &png : NULL, info ? &info : NULL, NULL);
+        fclose(fp);
+        mem_free(pixels);
+        if (!refused)
+            return error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path,
+                              fail.msg[0] ? fail.msg : "out of memory");
+        return refused;
+    }
+    png_set_user_limits(png, LC_MAX_SIDE, LC_MAX_SIDE);
+    png_init_io(png, fp);
+    png_read_info(png, info);
+    png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+    int depth = png_get_bit_depth(png, info), type = png_get_color_type(png, info);
+    if ((refused = check_size(w, h, path, err)) != LC_OK)
+        png_error(png, "refused");
+    if ((depth != 8 && depth != 16) ||
+        (type != PNG_COLOR_TYPE_RGB && type != PNG_COLOR_TYPE_RGB_ALPHA) ||
+        png_get_interlace_type(png, info) != PNG_INTERLACE_NONE) {
+        refused = error_fail(err, LC_EARG, "path", "cannot merge '%s': a %d-bit PNG of "
+                             "colour type %d%s; lancer's parts are 8 or 16-bit RGB or "
+                             "RGBA, not interlaced", path, depth, type,
+                             png_get_interlace_type(png, info) ? ", interlaced" : "");
+        png_error(png, "refused");
+    }
+    f->kind = RASTER_PNG;
+    f->width = (int)w;
+    f->height = (int)h;
+    f->channels = type == PNG_COLOR_TYPE_RGB_ALPHA ? 4 : 3;
+    f->bytes = depth / 8;
+    f->enc = png_get_valid(png, info, PNG_INFO_sRGB) || !png_get_valid(png, info,
+             PNG_INFO_gAMA) ? LC_ENCODE_SRGB : LC_ENCODE_LINEAR;
+    f->win.frame_width = f->width;
+    f->win.frame_height = f->height;
+    png_int_32 ox, oy;
+    int unit;
+    png_textp texts;
+    int ntext = png_get_text(png, info, &texts, NULL);
+    for (int i = 0; i < ntext; i++) {
+        int fw, fh;
+        char end;
+        if (strcmp(texts[i].key, FRAME_KEY) != 0)
+            continue;
+        if (sscanf(texts[i].text, "%d %d%c", &fw, &fh, &end) != 2 ||
+            !png_get_oFFs(png, info, &ox, &oy, &unit) || unit != PNG_OFFSET_PIXEL ||
+            ox < 0 || oy < 0 || fw < 1 || fh < 1 || fw > LC_MAX_SIDE || fh > LC_MAX_SIDE ||
+            ox > fw - f->width || oy > fh - f->height) {
+            refused = error_fail(err, LC_EARG, "path", "cannot merge '%s': its place in "
+                                 "the frame (oFFs and '" FRAME_KEY "' = '%.40s') is not "
+                                 "a %dx%d part of a frame", path, texts[i].text, f->width,
+                                 f->height);
+            png_error(png, "refused");
+        }
+        f->win.x0 = (int)ox;
+        f->win.y0 = (int)oy;
+        f->win.frame_width = fw;
+        f->win.frame_height = fh;
+    }
+    if (depth == 16 && little_endian())
+        png_set_swap(png);
+    png_read_update_info(png, info);
+    size_t rowbytes = (size_t)f->width * f->channels * f->bytes;
+    pixels = mem_alloc(rowbytes * h);
+    if (!pixels) {
+        refused = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' (%lux%lu)",
+                             path, (unsigned long)w, (unsigned long)h);
+        png_error(png, "refused");
+    }
+    for (png_uint_32 y = 0; y < h; y++)
+        png_read_row(png, pixels + y * rowbytes, NULL);
+    png_read_end(png, NULL);
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    *data = pixels;
+    error_ok(err);
+    return LC_OK;
 }

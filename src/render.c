@@ -54,6 +54,10 @@ typedef struct {
     pthread_cond_t  tile_done;
     int             next, done, cancel, running;
     adaptive       *adaptive;   /* NULL: every pixel takes `samples` */
+    int             x0, y0, x1, y1;   /* the pixels of the frame the image holds */
+    int             ex0, ey0, ew, eh; /* those traced: the region and a margin */
+    uint32_t       *hits;       /* alpha with adaptive: camera rays that hit, per
+                                ** traced pixel, across passes */
     double          base, share;   /* progress: this pass's start and part of all */
     int             random;     /* some dimension is sampled: pixels need their keys */
     sig_atomic_t    interrupts_seen;   /* lc_interrupt()'s count when the render began */
@@ -82,9 +86,11 @@ static void tracer_init(tracer *t, lc_scene *s, const lc_render_options *o)
 
 /* Camera sample s of n of pixel (x, y): the pixel centre when the pixel
 ** takes one sample, else a point of the pixel's set; through the lens when
-** the camera has one. */
+** the camera has one. With `hits` (a render with alpha), a ray that meets
+** nothing brings back nothing, the transparent background, and one that
+** meets something counts in *hits: one more cast, only when alpha is asked. */
 static radiance camera_sample(const job *j, tracer *t, int x, int y, uint32_t s,
-                              uint32_t n)
+                              uint32_t n, uint32_t *hits)
 {
     double u[2] = {0.5, 0.5};
     if (n > 1)
@@ -95,6 +101,13 @@ static radiance camera_sample(const job *j, tracer *t, int x, int y, uint32_t s,
         camera_lens(&j->cam, &r, u);
     }
     t->rays[LC_RAY_CAMERA]++;
+    if (hits) {
+        if (!intersect_occluded(t->scene, &r, HUGE_VAL, &t->counts)) {
+            radiance none = {0, 0, 0};
+            return none;
+        }
+        ++*hits;
+    }
     return shade_ray(t, &r, s, n);
 }
 
@@ -107,45 +120,81 @@ static void put_pixel(lc_image *img, int x, int y, const double sum[3], uint32_t
                                 (float)fmin(sum[2] / n, FLT_MAX)));
 }
 
+/* Pixel (x, y) of the frame, in the image when the region holds it. */
+static void put(job *j, int x, int y, const double sum[3], uint32_t n, uint32_t hits)
+{
+    if (x < j->x0 || x >= j->x1 || y < j->y0 || y >= j->y1)
+        return;                                     /* the margin: traced, not kept */
+    put_pixel(j->img, x - j->x0, y - j->y0, sum, n);
+    if (j->img->alpha)
+        lc_image_set_alpha(j->img, x - j->x0, y - j->y0, (float)hits / (float)n);
+}
+
 static void render_tile(job *j, tracer *t, int tile)
 {
     const lc_render_options *o = j->o;
     adaptive *ad = j->adaptive;
-    int x0 = (tile % j->tiles_x) * TILE, y0 = (tile / j->tiles_x) * TILE;
-    int x1 = x0 + TILE < j->img->width ? x0 + TILE : j->img->width;
-    int y1 = y0 + TILE < j->img->height ? y0 + TILE : j->img->height;
+    int x0 = j->ex0 + (tile % j->tiles_x) * TILE, y0 = j->ey0 + (tile / j->tiles_x) * TILE;
+    int x1 = x0 + TILE < j->ex0 + j->ew ? x0 + TILE : j->ex0 + j->ew;
+    int y1 = y0 + TILE < j->ey0 + j->eh ? y0 + TILE : j->ey0 + j->eh;
     uint32_t n = (uint32_t)o->samples;
+    int alpha = j->img->alpha != NULL;
     for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++) {
-            size_t pixel = (size_t)y * j->img->width + x;
+            /* Keyed by its place in the whole frame: a region's pixel is the
+            ** same pixel as in the frame rendered whole. */
+            uint64_t key = (uint64_t)y * (uint64_t)o->width + (uint64_t)x;
+            size_t pixel = (size_t)(y - j->ey0) * j->ew + (size_t)(x - j->ex0);
             if (ad && !ad->active[pixel])
                 continue;
             if (j->random)
-                t->ps = sample_pixel(o->sampler, o->seed, o->frame, pixel);
+                t->ps = sample_pixel(o->sampler, o->seed, o->frame, key);
             if (!ad) {
                 double sum[3] = {0, 0, 0};
+                uint32_t hits = 0;
                 for (uint32_t s = 0; s < n; s++) {
-                    radiance c = camera_sample(j, t, x, y, s, n);
+                    radiance c = camera_sample(j, t, x, y, s, n, alpha ? &hits : NULL);
                     sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
                 }
                 t->samples += n;
-                put_pixel(j->img, x, y, sum, n);
+                put(j, x, y, sum, n, hits);
                 continue;
             }
             /* Adaptive: on from where the last pass stopped; odd-numbered
             ** samples also go to the half the error is estimated with. */
             double *sum = ad->sum + 6 * pixel;
-            uint32_t s = ad->n[pixel];
+            uint32_t s = ad->n[pixel], *hits = alpha ? j->hits + pixel : NULL;
             for (; s < ad->target; s++) {
-                radiance c = camera_sample(j, t, x, y, s, n);
+                radiance c = camera_sample(j, t, x, y, s, n, hits);
                 sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
                 if (s & 1)
                     sum[3] += c.r, sum[4] += c.g, sum[5] += c.b;
             }
             t->samples += s - ad->n[pixel];
             ad->n[pixel] = s;
-            put_pixel(j->img, x, y, sum, s);
+            put(j, x, y, sum, s, hits ? *hits : 0);
         }
+}
+
+/* Adaptive sampling keeps a pixel going while it or a neighbour is over the
+** noise target, so what a pixel takes in pass k depends on pixels k away. A
+** region is traced with that many pixels around it (as far as the frame
+** goes), so that each of its pixels takes the same samples as in the whole
+** frame: the number of passes after the first. */
+static int adaptive_margin(const lc_render_options *o)
+{
+    if (!(o->noise > 0))
+        return 0;
+    uint32_t max = (uint32_t)o->samples;
+    uint32_t target = (uint32_t)o->min_samples + (o->min_samples & 1);
+    int passes = 0;
+    if (target > max)
+        target = max;
+    while (target < max) {                   /* as adaptive_next steps it */
+        target = target > max / 2 ? max : 2 * target;
+        passes++;
+    }
+    return passes;
 }
 
 static lc_status explain_locked(lc_scene *s, const lc_render_options *o, int x, int y,
@@ -177,7 +226,7 @@ static lc_status explain_locked(lc_scene *s, const lc_render_options *o, int x, 
     tracer_init(&t, s, o);
     t.log = &log;
     t.ps = sample_pixel(o->sampler, o->seed, o->frame, (uint64_t)y * o->width + x);
-    camera_sample(&j, &t, x, y, (uint32_t)sample, (uint32_t)o->samples);
+    camera_sample(&j, &t, x, y, (uint32_t)sample, (uint32_t)o->samples, NULL);
     explain_finish(&log);
     explain_free(&log);
     if (log.failed) {
@@ -311,19 +360,45 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
     if (compile_scene(s, o, interrupts_seen, err))
         return NULL;
     double t1 = clock_seconds();
-    lc_image *img = lc_image_new(o->width, o->height, err);
-    if (!img)
-        return NULL;
-
     job j;
     memset(&j, 0, sizeof j);
+    j.x1 = o->width;
+    j.y1 = o->height;
+    if (o->region[0] | o->region[1] | o->region[2] | o->region[3]) {
+        j.x0 = o->region[0];
+        j.y0 = o->region[1];
+        j.x1 = o->region[2];
+        j.y1 = o->region[3];
+    }
+    int margin = adaptive_margin(o);
+    j.ex0 = j.x0 - margin > 0 ? j.x0 - margin : 0;
+    j.ey0 = j.y0 - margin > 0 ? j.y0 - margin : 0;
+    j.ew = (j.x1 + margin < o->width ? j.x1 + margin : o->width) - j.ex0;
+    j.eh = (j.y1 + margin < o->height ? j.y1 + margin : o->height) - j.ey0;
+    lc_image *img = lc_image_new(j.x1 - j.x0, j.y1 - j.y0, err);
+    if (!img)
+        return NULL;
+    lc_window win = {j.x0, j.y0, o->width, o->height};
+    if (lc_image_set_window(img, win, err) || (o->alpha && lc_image_add_alpha(img, err))) {
+        lc_image_free(img);
+        return NULL;
+    }
+    if (o->alpha && o->noise > 0) {
+        j.hits = mem_calloc((size_t)j.ew * j.eh, sizeof *j.hits);
+        if (!j.hits) {
+            lc_image_free(img);
+            error_fail(err, LC_ENOMEM, NULL, "out of memory for the alpha of %dx%d pixels",
+                       j.ew, j.eh);
+            return NULL;
+        }
+    }
     j.o = o;
     j.scene = s;
     j.img = img;
     j.interrupts_seen = interrupts_seen;
     camera_frame_init(&s->camera, o->width, o->height, &j.cam);
-    j.tiles_x = (o->width + TILE - 1) / TILE;
-    j.ntiles = j.tiles_x * ((o->height + TILE - 1) / TILE);
+    j.tiles_x = (j.ew + TILE - 1) / TILE;
+    j.ntiles = j.tiles_x * ((j.eh + TILE - 1) / TILE);
     j.random = o->samples > 1 ||
                (s->c.needs & (LC_NEED_AREA | LC_NEED_GLOSSY | LC_NEED_LENS)) != 0;
     int nt = o->threads;
@@ -337,8 +412,9 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
     worker *ws = mem_calloc((size_t)nt, sizeof *ws);
     if (!ws)
         error_fail(err, LC_ENOMEM, NULL, "out of memory starting %d threads", nt);
-    if (!ws || (o->noise > 0 && adaptive_init(&ad, o, err))) {
+    if (!ws || (o->noise > 0 && adaptive_init(&ad, o, j.ew, j.eh, err))) {
         mem_free(ws);
+        mem_free(j.hits);
         lc_image_free(img);
         return NULL;
     }
@@ -390,6 +466,7 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
     warn(s, img, &sum);
     int cancelled = j.cancel;
     mem_free(ws);
+    mem_free(j.hits);
     pthread_mutex_destroy(&j.lock);
     pthread_cond_destroy(&j.tile_done);
     if (st)

@@ -264,5 +264,13 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
     if (o->threads < 0 || o->threads > LC_MAX_THREADS)
         return error_fail(err, LC_EARG, "threads", "must be in [0, %d], got %d", LC_MAX_THREADS,
                        o->threads);
+    const int *r = o->region;
+    if ((r[0] | r[1] | r[2] | r[3]) != 0 &&
+        !(r[0] >= 0 && r[0] < r[2] && r[2] <= o->width && r[1] >= 0 && r[1] < r[3] &&
+          r[3] <= o->height))
+        return error_fail(err, LC_EARG, "region", "must be {x0, y0, x1, y1} with 0 <= x0 < "
+                          "x1 <= %d and 0 <= y0 < y1 <= %d (pixel edges of the %dx%d "
+                          "frame), got {%d, %d, %d, %d}", o->width, o->height, o->width,
+                          o->height, r[0], r[1], r[2], r[3]);
     return LC_OK;
 }

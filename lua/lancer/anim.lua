@@ -16,6 +16,13 @@ local M = {count = 0, busy = false}   -- lancer.animate calls; in one now
 -- elsewhere it is empty and every frame is rendered.
 M.options = {}
 
+-- lancer.host sets these for the lancer command: seed (--seed, which with
+-- the frame number seeds math.random for each frame) and part_path (with
+-- --tile or --region: where this run saves a frame's part, from the frame's
+-- own path; --skip-existing and the log look for that file).
+M.seed, M.part_path = nil, nil
+local function target(path) return M.part_path and M.part_path(path) or path end
+
 -- How a misuse of those options is reported: lancer.host makes it a usage
 -- error (exit 2); elsewhere (lua5.4, tests) it is an error.
 function M.usage(msg) error(msg, 0) end
@@ -202,7 +209,7 @@ local function total_rays(st)
 end
 
 local function render_frame(a, f)
-  math.randomseed(f.number)
+  math.randomseed(f.number, M.seed or 0)   -- (n, 0) is what randomseed(n) sets
   local scene, opts = a.frame(f)
   if getmetatable(scene) == nil or not tostring(scene):match("^lancer%.Scene") then
     error(("the frame function must return a lancer.Scene, got %s"):format(
@@ -281,7 +288,7 @@ function M.animate(spec)
   local frames = M.select(a, over)
   if over.list_frames then
     for _, n in ipairs(frames) do
-      local p = a.path(n)
+      local p = target(a.path(n))
       if not (over.skip_existing and exists(p)) then io.write(p, "\n") end
     end
     io.flush()
@@ -296,9 +303,9 @@ function M.animate(spec)
   M.busy = true
   for _, n in ipairs(frames) do
     local f = frame_info(a, n)
-    if over.skip_existing and exists(f.output) then
+    if over.skip_existing and exists(target(f.output)) then
       result.skipped = result.skipped + 1
-      log("frame %d: skipped, %s exists", n, f.output)
+      log("frame %d: skipped, %s exists", n, target(f.output))
     else
       -- pcall, not xpcall: a Lua message handler is where a Ctrl-C pending
       -- from a cancelled render would strike, and hide "render cancelled".
@@ -307,7 +314,7 @@ function M.animate(spec)
         result.rendered = result.rendered + 1
         log("frame %d: %dx%d, %d spp, %.3f s, %d rays -> %s", n, img.width, img.height,
             st.rays.camera // (img.width * img.height), st.seconds + (st.lua_seconds or 0),
-            total_rays(st), f.output)
+            total_rays(st), target(f.output))
         free(img)
       elseif is_interrupt(img) then
         M.busy = false

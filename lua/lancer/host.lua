@@ -3,7 +3,10 @@
 -- installs M.hook as the host hook (lancer.set_host_hook, see
 -- src/lua_hook.c); after the script it calls finish() for its exit status.
 -- The hook:
---   * renders and explains at --width, --height, --samples;
+--   * renders and explains at --width, --height, --samples, --seed, --threads;
+--   * renders only the rows of --tile K/N or the pixels of --region, and
+--     saves those parts beside the name the script gives (out.png becomes
+--     out.tile-K-of-N.png), for lancer --merge;
 --   * hands each render to lancer.check (--check) or lancer.accuracy
 --     (--accuracy), and then writes none of the images the script saves:
 --     its files stay as they were (check and accuracy write their own);
@@ -18,7 +21,8 @@ local anim = require "lancer.anim"
 -- lancer's modules only and its os.exit is refused; the host's are these.
 local require, exit = require, os.exit
 
--- setup's options: width, height, samples (integers or nil), check, stats,
+-- setup's options: width, height, samples, seed, threads (integers or nil),
+-- region ({x0, y0, x1, y1} or nil), tile ({K, N} or nil), check, stats,
 -- repl (the prompt follows the script), code (-e code is run), script (its
 -- name, or nil for -e code), anim (the frame options, as lancer.anim.options
 -- reads them, plus first: the first frame option given) and accuracy
@@ -36,15 +40,59 @@ function M.usage(msg)
   exit(2, true)
 end
 
--- The options as the script gave them, with the command line's sizes.
+-- The options as the script gave them, with the command line's.
 local function sized(opts)
   local o = M.options
-  if not (o.width or o.height or o.samples) then return opts end
+  if not (o.width or o.height or o.samples or o.seed or o.threads) then return opts end
   local t = {}
   for k, v in pairs(opts) do t[k] = v end
   t.width, t.height, t.samples = o.width or t.width, o.height or t.height,
                                  o.samples or t.samples
+  t.seed, t.threads = o.seed or t.seed, o.threads or t.threads
   return t
+end
+
+-- The render options with the part of the frame --region or --tile asks for.
+local function part_of(opts)
+  local o = M.options
+  if not (o.region or o.tile) then return opts end
+  local t = {}
+  for k, v in pairs(opts) do t[k] = v end
+  -- The core's default size (lc_render_options_default) when the script gives none.
+  local w, h = math.tointeger(t.width) or 640, math.tointeger(t.height) or 480
+  if o.region then
+    local r = o.region
+    if r[3] > w or r[4] > h then
+      M.usage(("option '--region %d,%d,%d,%d' is outside the %dx%d frame"):format(
+        r[1], r[2], r[3], r[4], w, h))
+    end
+    t.region = {r[1], r[2], r[3], r[4]}
+  else
+    local k, n = o.tile[1], o.tile[2]
+    if n > h then
+      M.usage(("option '--tile %d/%d': the %dx%d frame has fewer rows than tiles"):format(
+        k, n, w, h))
+    end
+    t.region = {0, k * h // n, w, (k + 1) * h // n}
+  end
+  return t
+end
+
+-- Where a part of a frame is saved: beside the name the script gives, with
+-- the part in the name before the extension.
+function M.part_path(path)
+  local o = M.options
+  local base, ext = path:match("^(.*[^/])(%.[^./]*)$")
+  if not base then return path end            -- no extension: save refuses it
+  local tag = o.tile and ("tile-%d-of-%d"):format(o.tile[1], o.tile[2]) or
+              ("region-%d-%d-%d-%d"):format(table.unpack(o.region))
+  return base .. "." .. tag .. ext
+end
+
+-- Whether an image is a part of a frame (not the whole of it).
+local function is_part(img)
+  local r, f = img.region, img.frame
+  return r[1] ~= 0 or r[2] ~= 0 or r[3] ~= f[1] or r[4] ~= f[2]
 end
 
 -- Frame options select frames of a lancer.animate: an image made outside
@@ -72,6 +120,7 @@ function M.hook(method, plain, self, what, ...)
                        "images)\n"):format(tool, what, tool))
       return self
     end
+    if (o.region or o.tile) and is_part(self) then what = M.part_path(what) end
     return plain(self, what, ...)
   end
   local img, st
@@ -87,7 +136,7 @@ function M.hook(method, plain, self, what, ...)
     M.diverted = false
     if not ok then error(img, 0) end
   else
-    img, st = plain(self, sized(what))
+    img, st = plain(self, part_of(sized(what)))
   end
   if o.stats then require("lancer.ledger").report(st) end
   if M.on_render then M.on_render(img, st) end
@@ -105,6 +154,8 @@ function M.setup(options)
   if options.anim then
     anim.options, anim.usage = options.anim, M.usage
   end
+  anim.seed = options.seed
+  if options.region or options.tile then anim.part_path = M.part_path end
   lancer.set_host_hook(M.hook)
   if options.code then _G.lancer = _G.lancer or lancer end   -- as at the prompt
   return true

@@ -27,7 +27,8 @@
 --        must exit 0. needs=PROG: skipped when PROG is not installed.
 --        slurm: run as task 0 of a 12-task Slurm array (the environment
 --        variables a job script reads), without sbatch.
--- c      compiled with -Isrc against build/liblancer.a and libpng, run; it
+-- c      compiled with -Isrc against build/liblancer.a and what it links (libpng,
+--        OpenEXRCore: build/lancer-uninstalled.pc), run; it
 --        must exit 0.
 -- text output: the block before it (lua, sh or c) printed this, stdout
 --        then stderr. `numbers`: every number may differ (measurements).
@@ -97,6 +98,9 @@ local function workspace(files)
   sh[#sh + 1] = "mkdir -p build/bin"
   sh[#sh + 1] = ("ln -s %s build/lancer"):format(q(BUILD .. "/lancer"))
   sh[#sh + 1] = ("ln -s %s build/liblancer.a"):format(q(BUILD .. "/liblancer.a"))
+  -- What the manual links C programs with: PKG_CONFIG_PATH=build pkg-config lancer.
+  sh[#sh + 1] = ("ln -s %s build/lancer-uninstalled.pc"):format(
+    q(BUILD .. "/lancer-uninstalled.pc"))
   assert(os.execute(table.concat(sh, " && ")), "cannot set up " .. dir)
   T.write(dir .. "/build/bin/lancer", ([[
 #!/bin/sh
@@ -250,9 +254,9 @@ local SANITIZED = os.execute(("nm %s 2>/dev/null | grep -q __asan_"):format(
 local function run_c(b, out)
   local dir = workspace({["prog.c"] = table.concat(b.body, "\n") .. "\n"})
   local cc = ("cc -std=c99 -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L %s-I%s -o prog prog.c " ..
-              "%s $(pkg-config --libs libpng) -lm -pthread"):format(
+              "%s $(PKG_CONFIG_PATH=%s pkg-config --libs lancer)"):format(
               SANITIZED and "-fsanitize=address,undefined " or "", q(ROOT .. "/src"),
-              q(BUILD .. "/liblancer.a"))
+              q(BUILD .. "/liblancer.a"), q(BUILD))
   local so, se, code = run_in(dir, cc)
   if code ~= 0 then error(("%s: does not compile\n%s%s"):format(where(b), so, se), 0) end
   so, se, code = run_in(dir, "./prog")

@@ -791,7 +791,8 @@ end)
 
 T.test("img:save refuses an extension it cannot write", function()
   local img = fixtures().img
-  for _, name in ipairs{"out.jpg", "out.exr", "out.PNG.bak", "dir.png/out"} do
+  -- (.exr is a format lancer writes since issue 16.)
+  for _, name in ipairs{"out.jpg", "out.tiff", "out.PNG.bak", "dir.png/out"} do
     T.check_error(function() img:save(name) end, HERE, "bad argument #1 to 'save'",
                   "cannot write '" .. name .. "'", "lancer writes .png")
   end

@@ -634,9 +634,10 @@ T.test("lancer_sandbox_open: an embedder's state refuses, caps, runs lancer", fu
   local cc = ("cc -std=c99 %s-D_POSIX_C_SOURCE=200809L -I%s " ..
               "$(pkg-config --cflags lua5.4) " ..
               "-o %s %s %s %s/obj/main_sandbox.o %s/obj/main_caps.o %s/liblancer.a " ..
-              "$(pkg-config --libs lua5.4 libpng) -lm -pthread 2>&1"):format(
+              "$(pkg-config --libs lua5.4) $(PKG_CONFIG_PATH=%s pkg-config --libs lancer) " ..
+              "2>&1"):format(
               san, q(ROOT .. "/src"), q(dir .. "/host"), q(dir .. "/host.c"), objs,
-              q(build), q(build), q(build))
+              q(build), q(build), q(build), q(build))
   local o, e, code = T.run(cc)
   T.check_exit(code, 0, o, e)
   local function host(script)
