@@ -125,8 +125,8 @@ MODULE := $(BUILD)/lancer/core.so
 BIN    := $(BUILD)/bin/lancer
 C_TESTS := $(patsubst tests/c/%.c,$(BUILD)/tests/%,$(wildcard tests/c/test_*.c))
 
-.PHONY: all demo test check santest tsan fuzz fuzz-build fuzzers bench clean install-deps \
-        install uninstall
+.PHONY: all demo test check santest tsan fuzz fuzz-build fuzzers bench clean install-deps
+.PHONY: install uninstall
 all: $(LIB) $(MODULE) $(BIN) $(BUILD)/lancer-uninstalled.pc
 
 $(BUILD)/obj/%.o: src/%.c

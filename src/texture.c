@@ -408,7 +408,9 @@ lc_textures *textures_transformed(const lc_textures *s, double scale, lc_vec3 of
     for (size_t i = 0; c && i < s->n; i++) {
         const texture *t = &s->t[i];
         lc_texture d = t->d;
-        lc_image img = {t->w, t->h, t->px};
+        lc_image img;
+        memset(&img, 0, sizeof img);
+        img.width = t->w, img.height = t->h, img.px = t->px;
         d.image = t->px ? &img : NULL;
         if (d.mapping == LC_MAP_WORLD) {
             d.xf = d.moved ? lc_transform_compose(&move, &d.xf) : move;
