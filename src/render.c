@@ -121,7 +121,7 @@ static void put_pixel(lc_image *img, int x, int y, const double sum[3], uint32_t
 }
 
 /* Pixel (x, y) of the frame, in the image when the region holds it. */
-static void put(job *j, int x, int y, const double sum[3], uint32_t n, uint32_t hits)
+ALWAYS_INLINE void put(job *j, int x, int y, const double sum[3], uint32_t n, uint32_t hits)
 {
     if (x < j->x0 || x >= j->x1 || y < j->y0 || y >= j->y1)
         return;                                     /* the margin: traced, not kept */
