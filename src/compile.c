@@ -153,8 +153,11 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     for (int k = 0; k < LC_SHAPE_KINDS; k++)
         for (size_t i = 0; i < s->shapes[k].n; i++)
             used[s->shapes[k].material[i]] = 1;
-    for (size_t i = 0; i < s->nmeshes; i++)
+    for (size_t i = 0; i < s->nmeshes; i++) {
         used[s->meshes[i].material] = 1;
+        for (uint32_t k = 0; k < s->meshes[i].npalette; k++)
+            used[s->meshes[i].palette[k]] = 1;
+    }
     census lit = {0, 0}, spec = {0, 0}, refl = {0, 0}, gloss = {0, 0}, amb = {0, 0},
            inuse = {0, 0}, refr = {0, 0}, filt = {0, 0}, tex = {0, 0};
     for (size_t i = 0; i < s->nmaterials; i++) {

@@ -253,7 +253,7 @@ static void to_world(const mesh_prim *mp, const mesh_bvh *mb,
                 h->n = v3_neg(h->n);
         }
     }
-    h->material = mp->material;
+    h->material = mesh_face_material(mp, mb->face[k]);
     h->shape = PRIM_ID(PRIM_TRIANGLE, mb->tri_base + k);
 }
 

@@ -51,7 +51,7 @@ static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, doub
         if (!triangle_hit(v + 3 * (size_t)f[0], v + 3 * (size_t)f[1], v + 3 * (size_t)f[2],
                      q->r, &q->sh, 0, tmax, full, full->bary))
             return 0;
-        full->material = mp->material;
+        full->material = mesh_face_material(mp, tr->face);
         break;
     }
     case PRIM_INSTANCE:           /* a moved mesh: its own BVH, in its own space */

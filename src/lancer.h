@@ -184,6 +184,19 @@ lc_status lc_mesh_add_uvs(lc_mesh *m, const double *uv, size_t n, lc_error *err)
 lc_status lc_mesh_add_faces(lc_mesh *m, const uint32_t *abc, size_t n, lc_error *err);
 size_t    lc_mesh_vertex_count(const lc_mesh *m);
 size_t    lc_mesh_face_count(const lc_mesh *m);
+/* Material slots, one per face in the order faces were added (faces past
+** the last slot given take slot 0); a scene maps each slot to a material
+** (lc_scene_add_mesh_materials). 1 + the largest slot is
+** lc_mesh_material_slots (0: none given). */
+#define LC_MAX_SLOTS 65536
+lc_status lc_mesh_add_face_materials(lc_mesh *m, const uint32_t *slots, size_t n,
+                                     lc_error *err);
+size_t    lc_mesh_material_slots(const lc_mesh *m);
+/* From an OBJ file: slot k's usemtl name (NULL if none), and the mtllib
+** files it named, resolved against the OBJ's folder. */
+const char *lc_mesh_slot_name(const lc_mesh *m, size_t slot);
+size_t      lc_mesh_mtllib_count(const lc_mesh *m);
+const char *lc_mesh_mtllib(const lc_mesh *m, size_t i);
 /* What the mesh holds, valid until it grows or is freed: 3 doubles per
 ** vertex; 3 vertex indices (0-based) per face. */
 const double   *lc_mesh_vertex_data(const lc_mesh *m);
@@ -312,6 +325,11 @@ int       lc_scene_add_texture(lc_scene *s, const lc_texture *t, lc_error *err);
 int       lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material,
                              lc_error *err);            /* id >= 0, or -1 */
 int       lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err);
+/* The mesh (moved by t, or as it is when t is NULL) with face material slot
+** k taking the scene's material materials[k]: n must cover every slot the
+** mesh has (n >= 1; a face without a slot takes materials[0]). */
+int       lc_scene_add_mesh_materials(lc_scene *s, lc_mesh *m, const lc_transform *t,
+                                      const int *materials, size_t n, lc_error *err);
 /* The mesh moved by t, as an instance: however many times a mesh is added
 ** this way, its faces and their BVH are stored once. (The identity adds it
 ** as lc_scene_add_mesh does: its triangles join the scene's own BVH.) */

@@ -46,6 +46,7 @@ void lc_scene_free(lc_scene *s)
     for (size_t i = 0; i < s->nmeshes; i++) {
         lc_mesh_free(s->meshes[i].mesh);
         mem_free(s->meshes[i].xf);
+        mem_free(s->meshes[i].palette);
     }
     mem_free(s->light_ids);
     mem_free(s->materials);
@@ -190,26 +191,31 @@ int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *
 }
 
 /* Adds m, moved by xf (taken over) or as it is when xf is NULL. */
-static int add_mesh(lc_scene *s, lc_mesh *m, affine *xf, int material, lc_error *err)
+static int add_mesh(lc_scene *s, lc_mesh *m, affine *xf, int material, int *palette,
+                    uint32_t npalette, lc_error *err)
 {
     if (!check_material(s, material, err)) {
         mem_free(xf);
+        mem_free(palette);
         return -1;
     }
     if (m->nn != 0 && m->nn != m->nv) {
         error_fail(err, LC_EARG, "normals", "mesh has %zu normals for %zu vertices", m->nn,
                 m->nv);
         mem_free(xf);
+        mem_free(palette);
         return -1;
     }
     if (m->nuv != 0 && m->nuv != m->nv) {
         error_fail(err, LC_EARG, "uvs", "mesh has %zu uvs for %zu vertices", m->nuv, m->nv);
         mem_free(xf);
+        mem_free(palette);
         return -1;
     }
     if (s->nmeshes >= PRIM_MAX || !GROW(s, meshes)) {
         error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
         mem_free(xf);
+        mem_free(palette);
         return -1;
     }
     mesh_prim *mp = &s->meshes[s->nmeshes++];
@@ -217,6 +223,8 @@ static int add_mesh(lc_scene *s, lc_mesh *m, affine *xf, int material, lc_error 
     mp->mesh = mesh_retain(m);
     mp->material = material;
     mp->xf = xf;
+    mp->palette = palette;
+    mp->npalette = npalette;
     mp->id = s->next_id;
     s->c.valid = 0;
     s->nshapes++;
@@ -225,7 +233,25 @@ static int add_mesh(lc_scene *s, lc_mesh *m, affine *xf, int material, lc_error 
 
 int lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err)
 {
-    return add_mesh(s, m, NULL, material, err);
+    return add_mesh(s, m, NULL, material, NULL, 0, err);
+}
+
+/* *xf: t made an affine placement, or NULL for the identity. */
+static lc_status placement(const lc_transform *t, affine **xf, lc_error *err)
+{
+    *xf = NULL;
+    if (lc_transform_check(t, err))
+        return LC_EARG;
+    if (lc_transform_is_identity(t))
+        return LC_OK;
+    if (!(*xf = mem_alloc(sizeof **xf)))
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
+    if (affine_make(t, *xf, err)) {
+        mem_free(*xf);
+        *xf = NULL;
+        return LC_EARG;
+    }
+    return LC_OK;
 }
 
 int lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t, int material,
@@ -233,18 +259,34 @@ int lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t, int 
 {
     if (lc_transform_check(t, err))
         return -1;
-    if (lc_transform_is_identity(t))
-        return add_mesh(s, m, NULL, material, err);
-    affine *xf = mem_alloc(sizeof *xf);
-    if (!xf) {
-        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
+    affine *xf;
+    if (placement(t, &xf, err))
         return -1;
-    }
-    if (affine_make(t, xf, err)) {
+    return add_mesh(s, m, xf, material, NULL, 0, err);
+}
+
+int lc_scene_add_mesh_materials(lc_scene *s, lc_mesh *m, const lc_transform *t,
+                                const int *materials, size_t n, lc_error *err)
+{
+    if (n == 0 || n > LC_MAX_SLOTS)
+        return error_fail(err, LC_EARG, "materials", "between 1 and %d materials, got %zu",
+                          LC_MAX_SLOTS, n), -1;
+    if (n < m->nslots)
+        return error_fail(err, LC_EARG, "materials", "the mesh's faces use %lu material "
+                          "slots, %zu materials given", (unsigned long)m->nslots, n), -1;
+    for (size_t k = 0; k < n; k++)
+        if (!check_material(s, materials[k], err))
+            return -1;
+    affine *xf = NULL;
+    if (t && placement(t, &xf, err))
+        return -1;
+    int *palette = mem_alloc(n * sizeof *palette);
+    if (!palette) {
         mem_free(xf);
-        return -1;
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh"), -1;
     }
-    return add_mesh(s, m, xf, material, err);
+    memcpy(palette, materials, n * sizeof *palette);
+    return add_mesh(s, m, xf, materials[0], palette, (uint32_t)n, err);
 }
 
 int lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err)
@@ -328,8 +370,11 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
             lc_transform mv = lc_transform_translate(t);
             st = lc_transform_compose(&mv, &st);
             st = lc_transform_compose(&st, &s->meshes[i].xf->xf);
-            if (lc_scene_add_mesh_moved(c, s->meshes[i].mesh, &st, s->meshes[i].material,
-                                        err) < 0)
+            const mesh_prim *mp = &s->meshes[i];
+            if ((mp->palette ? lc_scene_add_mesh_materials(c, mp->mesh, &st, mp->palette,
+                                                           mp->npalette, err)
+                             : lc_scene_add_mesh_moved(c, mp->mesh, &st, mp->material,
+                                                       err)) < 0)
                 goto fail;
             continue;
         }
@@ -346,7 +391,13 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
             st = lc_mesh_add_uvs(m, src->uv, src->nuv, err);
         if (st == LC_OK)
             st = lc_mesh_add_faces(m, src->f, src->nf, err);
-        if (st == LC_OK && lc_scene_add_mesh(c, m, s->meshes[i].material, err) < 0)
+        if (st == LC_OK && src->nslot)
+            st = lc_mesh_add_face_materials(m, src->slot, src->nslot, err);
+        const mesh_prim *mp = &s->meshes[i];
+        if (st == LC_OK &&
+            (mp->palette ? lc_scene_add_mesh_materials(c, m, NULL, mp->palette, mp->npalette,
+                                                       err)
+                         : lc_scene_add_mesh(c, m, mp->material, err)) < 0)
             st = LC_EARG;
         lc_mesh_free(m);
         if (st != LC_OK)

@@ -16,7 +16,20 @@ typedef struct {
     int material, id;
     affine *xf;
     uint32_t blas;         /* compile: its entry in the scene's mesh BVH cache */
+    int     *palette;      /* slot k's material, or NULL: every face takes `material` */
+    uint32_t npalette;
 } mesh_prim;
+
+/* The material of face f of mesh prim mp: its slot's, bounded however the
+** mesh grew after it was added. */
+static inline int mesh_face_material(const mesh_prim *mp, uint32_t f)
+{
+    if (!mp->palette)
+        return mp->material;
+    const lc_mesh *m = mp->mesh;
+    uint32_t k = f < m->nslot ? m->slot[f] : 0;
+    return mp->palette[k < mp->npalette ? k : 0];
+}
 
 /* A mesh's own BVH in object space, built once for every instance of it and
 ** kept across compiles until the mesh grows (instance.c). */

@@ -170,6 +170,7 @@ lc_status lc_scene_remove(lc_scene *s, int id, lc_error *err)
         i = find_mesh(s, id);
         lc_mesh_free(s->meshes[i].mesh);       /* the scene's hold; the cache has its own */
         mem_free(s->meshes[i].xf);
+        mem_free(s->meshes[i].palette);
         cut(s->meshes, &s->nmeshes, (size_t)i, sizeof *s->meshes);
         s->nshapes--;
         break;
