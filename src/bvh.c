@@ -9,9 +9,11 @@
 #include "mem.h"
 
 #define BINS 16
+#ifndef MIN_LEAF
 #define MIN_LEAF 4        /* fewer is always a leaf: nodes cost memory too */
 #define MAX_LEAF 8        /* a leaf never holds more, unless the prims cannot be split */
 #define TRAVERSAL_COST 0.5f  /* one node visit, relative to one primitive test */
+#endif
 
 /* The float one ulp from finite f toward -inf (down) or +inf: nextafterf
 ** without the call, which was half the time of bounding 2M triangles. */
@@ -450,6 +452,9 @@ lc_status bvh_build(bvh *out, bvh_item *items, size_t n, sig_atomic_t interrupts
     uint32_t *fit = mem_realloc(refs, n * sizeof *fit);
     out->refs = fit ? fit : refs;
     out->nrefs = n;
+    bvh2_node *bfit = mem_realloc(b->nodes, b->nnodes * sizeof *bfit);
+    if (bfit)                 /* the slack returned before the wide nodes come */
+        b->nodes = bfit;
     lc_status st = bvh_collapse(out, b->nodes, b->nnodes);
     mem_free(b->nodes);
     if (st) {
