@@ -9,11 +9,9 @@
 #include "mem.h"
 
 #define BINS 16
-#ifndef MIN_LEAF
 #define MIN_LEAF 4        /* fewer is always a leaf: nodes cost memory too */
 #define MAX_LEAF 8        /* a leaf never holds more, unless the prims cannot be split */
 #define TRAVERSAL_COST 0.5f  /* one node visit, relative to one primitive test */
-#endif
 
 /* The float one ulp from finite f toward -inf (down) or +inf: nextafterf
 ** without the call, which was half the time of bounding 2M triangles. */

@@ -33,6 +33,7 @@ typedef struct {
     uint32_t *refs;    /* leaf entries: indices into the caller's primitive list */
     size_t    nrefs;
     void     *block;   /* the allocation holding nodes */
+    int       lone;    /* the root's one child is a leaf (bvh_lone_leaf) */
 } bvh;
 
 /* One primitive to build over: its bounds and the caller's id for it. */
@@ -115,9 +116,13 @@ static inline void bvh_ray_init(bvh_ray *q, lc_vec3 o, lc_vec3 d)
 /* 1 + 2 gamma(3): the far distances are enlarged by it. */
 #define BVH_WIDEN (1 + 2 * (BVH_RECIPROCAL_GAMMA * (DBL_EPSILON / 2)) / \
                    (1 - BVH_RECIPROCAL_GAMMA * (DBL_EPSILON / 2)))
-#ifndef BVH_NEAR_SLACK
+/* The entry distance is lowered by 1 - 64 eps: past its own gamma(3), this
+** covers a primitive's distance rounded up to ~30 ulps short of where the
+** ray meets its box. Without it, rays aimed at a mesh vertex lying on a
+** box face (18 in 1e5, test_widebvh.c) found the shared vertex's faces at
+** one t, but a box's entry rounded above it culled the face of lower id,
+** and the tie went the other way. 2 eps sufficed there; 64 costs nothing. */
 #define BVH_NEAR_SLACK 64
-#endif
 #define BVH_SHRINK (1 - BVH_NEAR_SLACK * DBL_EPSILON)
 
 /* The box test, and why it culls no hit. Each child box is tested in
@@ -130,7 +135,10 @@ static inline void bvh_ray_init(bvh_ray *q, lc_vec3 o, lc_vec3 d)
 ** roundings did, so the computed interval [max near, min far] is never
 ** empty when the exact segment (0, tmax) of the ray crosses the box (Ize
 ** 2013, pbrt-v4): a ray through a box (or along its face, or from inside)
-** always enters it, and the float bounds contain their primitives. NaN
+** always enters it, and the float bounds contain their primitives. The
+** entry max(0, near) is multiplied by BVH_SHRINK once the axes are done
+** (the same bits as shrinking each near: rounding is monotonic), so it
+** is a lower bound of the exact entry. NaN
 ** (0 * inf, a ray in a slab's plane) is ignored: max and min keep the
 ** running value, as the comparisons `near > t0 ? near : t0` do.
 **
@@ -155,11 +163,11 @@ ALWAYS_INLINE unsigned bvh_test_scalar(const bvh_node *nd, const bvh_ray *q, dou
         for (int k = 0; k < 3; k++) {
             double a = ((double)nd->lo[k][c] - q->o[k]) * q->inv[k];
             double b = ((double)nd->hi[k][c] - q->o[k]) * q->inv[k];
-            double near = (q->neg[k] ? b : a) * BVH_SHRINK;
-            double far = (q->neg[k] ? a : b) * BVH_WIDEN;
+            double near = q->neg[k] ? b : a, far = (q->neg[k] ? a : b) * BVH_WIDEN;
             t0 = near > t0 ? near : t0;
             t1 = far < t1 ? far : t1;
         }
+        t0 *= BVH_SHRINK;
         t[c] = t0;
         if (t0 <= t1)
             mask |= 1u << c;
@@ -185,11 +193,11 @@ BVH_SIMD_TARGET ALWAYS_INLINE unsigned bvh_test_simd(const bvh_node *nd, const b
         __m256d o = _mm256_set1_pd(q->o[k]), inv = _mm256_set1_pd(q->inv[k]);
         __m256d near = _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(nb)), o), inv);
         __m256d far = _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(fb)), o), inv);
-        near = _mm256_mul_pd(near, shrink);
         far = _mm256_mul_pd(far, widen);
         t0 = _mm256_max_pd(near, t0);
         t1 = _mm256_min_pd(far, t1);
     }
+    t0 = _mm256_mul_pd(t0, shrink);
     _mm256_storeu_pd(t, t0);
     unsigned in = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(t0, t1, _CMP_LE_OQ));
     return in & ((1u << nd->n) - 1);
@@ -322,6 +330,52 @@ ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx
             return 0;
         ni = stack[--sp].child;
     }
+}
+
+/* A hierarchy of one leaf (a scene of a few bounded shapes, as B1's three
+** spheres and a box): its box tested inline, then the leaf, as the binary
+** tree did, without the call and set-up of a traversal. */
+static inline int bvh_lone_leaf(const bvh *b)
+{
+    return b->lone;
+}
+
+/* bvh_test_scalar's arithmetic for the root's one child: 1 when met. */
+ALWAYS_INLINE int bvh_test_lone(const bvh_node *nd, const bvh_ray *q, double tmax)
+{
+    double t0 = 0, t1 = tmax;
+    for (int k = 0; k < 3; k++) {
+        double a = ((double)nd->lo[k][0] - q->o[k]) * q->inv[k];
+        double b = ((double)nd->hi[k][0] - q->o[k]) * q->inv[k];
+        double near = q->neg[k] ? b : a, far = (q->neg[k] ? a : b) * BVH_WIDEN;
+        t0 = near > t0 ? near : t0;
+        t1 = far < t1 ? far : t1;
+    }
+    return t0 * BVH_SHRINK <= t1;
+}
+
+ALWAYS_INLINE uint64_t bvh_closest_lone(const bvh *b, const bvh_ray *q, double tmax,
+                                        void *ctx,
+                                        double (*leaf)(void *ctx, uint32_t ref, double tmax))
+{
+    const bvh_node *nd = &b->nodes[0];
+    if (bvh_test_lone(nd, q, tmax))
+        for (uint32_t k = 0; k < nd->count[0]; k++)
+            tmax = leaf(ctx, b->refs[nd->child[0] + k], tmax);
+    return 1;
+}
+
+ALWAYS_INLINE int bvh_any_lone(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
+                               int (*leaf)(void *ctx, uint32_t ref, double tmax),
+                               uint64_t *nodes)
+{
+    const bvh_node *nd = &b->nodes[0];
+    ++*nodes;
+    if (bvh_test_lone(nd, q, tmax))
+        for (uint32_t k = 0; k < nd->count[0]; k++)
+            if (leaf(ctx, b->refs[nd->child[0] + k], tmax))
+                return 1;
+    return 0;
 }
 
 /* Defines name_scalar and name_simd, the same function of (args) built

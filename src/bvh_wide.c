@@ -137,5 +137,6 @@ lc_status bvh_collapse(bvh *b, const bvh2_node *nodes, size_t n)
     b->block = block;
     b->nodes = cl.w;
     b->nnodes = count;
+    b->lone = count == 1 && cl.w[0].n == 1 && cl.w[0].count[0] > 0;
     return LC_OK;
 }

@@ -216,7 +216,9 @@ int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
             tmax = next_up(t);
         }
     }
-    uint64_t nn = closest_walk(&s->c.bvh, &q.b, tmax, &c);
+    uint64_t nn = bvh_lone_leaf(&s->c.bvh) ? bvh_closest_lone(&s->c.bvh, &q.b, tmax, &c,
+                                                              closest_leaf)
+                                           : closest_walk(&s->c.bvh, &q.b, tmax, &c);
     if (counts) {
         counts->prims += c.np + inner.prims;
         counts->nodes += nn + inner.nodes;
@@ -272,7 +274,9 @@ static int occluded(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
     *np += nplanes;
     hit tmp;
     any a = {s, &q, r, skip, &tmp, 0, 0};
-    int found = any_walk(&s->c.bvh, &q.b, tmax, &a);
+    int found = bvh_lone_leaf(&s->c.bvh) ? bvh_any_lone(&s->c.bvh, &q.b, tmax, &a, any_leaf,
+                                                        &a.nn)
+                                         : any_walk(&s->c.bvh, &q.b, tmax, &a);
     *np += a.np;
     *nn += a.nn;
     return found;

@@ -474,6 +474,46 @@ static void wide_bvh_matches_the_scan(void **state)
     lc_scene_free(s);
 }
 
+/* B1's shape: a few bounded shapes in one leaf (bvh_lone_leaf), planes
+** around: the inline path finds what the scan finds. */
+static void lone_leaf_matches_the_scan(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_scene *s = lc_scene_new(&err);
+    lc_material m = lc_material_default();
+    int mi = lc_scene_add_material(s, &m, &err);
+    add(s, (lc_shape){.kind = LC_SPHERE, .p = {-1.6, 1.2, -2}, .radius = 1.2}, mi);
+    add(s, (lc_shape){.kind = LC_SPHERE, .p = {1.8, 0.8, -0.5}, .radius = 0.8}, mi);
+    add(s, (lc_shape){.kind = LC_SPHERE, .p = {1.8, 0.8, -0.5}, .radius = 0.8}, mi);
+    add(s, (lc_shape){.kind = LC_BOX, .p = {1, 0, -4.4}, .u = {1.6, 0, 0}, .v = {0, 1.6, 0},
+                      .w = {0, 0, 1.6}}, mi);
+    add(s, (lc_shape){.kind = LC_PLANE, .p = {0, 0, 0}, .u = {0, 1, 0}}, mi);
+    add(s, (lc_shape){.kind = LC_PLANE, .p = {0, 0, -6}, .u = {0, 0, 1}}, mi);
+    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
+    assert_true(bvh_lone_leaf(&s->c.bvh));
+    reference ref;
+    reference_init(&ref, s);
+    tally t;
+    memset(&t, 0, sizeof t);
+    for (int i = 0; i < 20000; i++) {
+        ray r = {rvec(-5, 5), random_dir()};
+        if (i % 2) {                           /* at the leaf's box, or along an axis */
+            double lo[3], hi[3];
+            some_box(&s->c.bvh, lo, hi);
+            r.d = i % 4 == 1 ? v3_norm(v3_sub(on_box(lo, hi), r.o))
+                             : v3(AXES[i % 6][0], AXES[i % 6][1], AXES[i % 6][2]);
+        }
+        check_ray(&ref, &r, &t);
+    }
+    report("one leaf", &t);
+    reference_free(&ref);
+    assert_int_equal(t.mismatches, 0);
+    assert_int_equal(t.simd_mismatches, 0);
+    assert_true(t.kind_hits[PRIM_SPHERE] > 500 && t.kind_hits[PRIM_BOX] > 100);
+    lc_scene_free(s);
+}
+
 /* ---- the box test itself ---------------------------------------------------------- */
 
 /* The slab interval of the exact ray o + t d against the box, in long
@@ -672,6 +712,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(box_test_is_conservative),
         cmocka_unit_test(wide_bvh_matches_the_scan),
+        cmocka_unit_test(lone_leaf_matches_the_scan),
         cmocka_unit_test(images_do_not_depend_on_simd_or_threads),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
