@@ -194,6 +194,10 @@ static inline double closest_leaf(void *ctx, uint32_t id, double tmax)
     return tmax;
 }
 
+BVH_DISPATCH(uint64_t, closest_walk,
+             (const bvh *b, const bvh_ray *q, double tmax, closest *c), (b, q, tmax, c),
+             return bvh_closest(b, q, tmax, c, closest_leaf, BVH_TEST);)
+
 int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
                     bvh_counts *counts)
 {
@@ -212,7 +216,9 @@ int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
             tmax = next_up(t);
         }
     }
-    uint64_t nn = bvh_closest(&s->c.bvh, &q.b, tmax, &c, closest_leaf);
+    uint64_t nn = bvh_lone_leaf(&s->c.bvh) ? bvh_closest_lone(&s->c.bvh, &q.b, tmax, &c,
+                                                              closest_leaf)
+                                           : closest_walk(&s->c.bvh, &q.b, tmax, &c);
     if (counts) {
         counts->prims += c.np + inner.prims;
         counts->nodes += nn + inner.nodes;
@@ -249,6 +255,9 @@ static inline int any_leaf(void *ctx, uint32_t id, double tmax)
     return prim_t(a->s, id, a->q, tmax, a->tmp, NULL) > 0;   /* not an instance */
 }
 
+BVH_DISPATCH(int, any_walk, (const bvh *b, const bvh_ray *q, double tmax, any *a),
+             (b, q, tmax, a), return bvh_any(b, q, tmax, a, any_leaf, &a->nn, BVH_TEST);)
+
 /* Any hit: the first primitive found in (0, tmax) ends the search. */
 static int occluded(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
                     uint64_t *np, uint64_t *nn)
@@ -265,7 +274,9 @@ static int occluded(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
     *np += nplanes;
     hit tmp;
     any a = {s, &q, r, skip, &tmp, 0, 0};
-    int found = bvh_any(&s->c.bvh, &q.b, tmax, &a, any_leaf, &a.nn);
+    int found = bvh_lone_leaf(&s->c.bvh) ? bvh_any_lone(&s->c.bvh, &q.b, tmax, &a, any_leaf,
+                                                        &a.nn)
+                                         : any_walk(&s->c.bvh, &q.b, tmax, &a);
     *np += a.np;
     *nn += a.nn;
     return found;
