@@ -197,6 +197,27 @@ size_t    lc_mesh_material_slots(const lc_mesh *m);
 const char *lc_mesh_slot_name(const lc_mesh *m, size_t slot);
 size_t      lc_mesh_mtllib_count(const lc_mesh *m);
 const char *lc_mesh_mtllib(const lc_mesh *m, size_t i);
+/* A material of a Wavefront .mtl library, as the file says it. */
+#define LC_MTL_PATH 1024
+typedef struct {
+    char     name[256];
+    lc_color kd, ks, ka, ke;   /* Kd (0.8 grey when absent), Ks, Ka, Ke (black) */
+    double   ns;               /* Ns: the Phong exponent */
+    double   d;                /* d, or 1 - Tr: opacity (1) */
+    double   ni;               /* Ni: index of refraction (1) */
+    int      illum;            /* illum, -1 when absent */
+    char     map_kd[LC_MTL_PATH];   /* map_Kd's file, beside the .mtl ("" none) */
+    char     map_bump[LC_MTL_PATH]; /* map_Bump or bump ("" none) */
+    double   bump_mult;        /* its -bm option (1) */
+} lc_mtl;
+
+/* Reads newmtl, Kd, Ks, Ka, Ke, Ns, Ni, d, Tr, illum, map_Kd and
+** map_Bump/bump; skips the rest; errors name the file and the line.
+** *materials is malloc'd: free() it. */
+lc_status   lc_mtl_load(const char *path, lc_mtl **materials, size_t *n, lc_error *err);
+/* The lancer material a .mtl material maps to (docs/manual.md, "OBJ
+** materials"); its textures are the caller's to add. */
+lc_material lc_mtl_material(const lc_mtl *m);
 /* What the mesh holds, valid until it grows or is freed: 3 doubles per
 ** vertex; 3 vertex indices (0-based) per face. */
 const double   *lc_mesh_vertex_data(const lc_mesh *m);

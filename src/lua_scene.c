@@ -286,6 +286,10 @@ static lc_mesh *mesh_at(lua_State *L, int idx, int arg)
 
 /* Adds the object at idx (checked by flatten) to the scene at 1, moved by
 ** the transform at xf (0: as it is). */
+/* Materials a mesh's faces may name through their slots, from Lua: enough
+** for any OBJ file seen; more take lc_scene_add_mesh_materials from C. */
+#define PALETTE_MAX 4096
+
 static void add_one(lua_State *L, int idx, int arg, int xf)
 {
     lc_error err;
@@ -314,12 +318,32 @@ static void add_one(lua_State *L, int idx, int arg, int xf)
     lua_getiuservalue(L, idx, 1);                  /* a mesh */
     int mat = material_index(L, 1, lua_gettop(L), arg);
     lua_pop(L, 1);
+    /* A material per face slot: each slot's material in the scene. */
+    int slots[PALETTE_MAX];
+    int nslots = 0;
+    if (lua_getiuservalue(L, idx, 2) == LUA_TTABLE) {
+        int pal = lua_gettop(L);
+        lua_Integer n = (lua_Integer)lua_rawlen(L, pal);
+        if (n > PALETTE_MAX)
+            lf_error(L, arg, NULL, "a mesh of %lld materials: at most %d", (long long)n,
+                     PALETTE_MAX);
+        for (lua_Integer k = 1; k <= n; k++) {
+            lua_rawgeti(L, pal, k);
+            if (lua_type(L, -1) == LUA_TBOOLEAN)     /* false: the mesh's own material */
+                slots[nslots++] = mat;
+            else
+                slots[nslots++] = material_index(L, 1, lua_gettop(L), arg);
+            lua_pop(L, 1);
+        }
+    }
+    lua_pop(L, 1);
     lua_getiuservalue(L, 1, 1);                    /* so scene:objects() can name it */
     lua_rawgeti(L, -1, SC_MESHES);
     lc_scene *s = scene_at(L, 1);
     lc_mesh *m = mesh_at(L, idx, arg);
-    if ((t ? lc_scene_add_mesh_moved(s, m, t, mat, &err)
-           : lc_scene_add_mesh(s, m, mat, &err)) < 0)
+    if ((nslots ? lc_scene_add_mesh_materials(s, m, t, slots, (size_t)nslots, &err)
+         : t ? lc_scene_add_mesh_moved(s, m, t, mat, &err)
+             : lc_scene_add_mesh(s, m, mat, &err)) < 0)
         lf_raise(L, arg, &err);
     lua_pushlightuserdata(L, m);
     lua_pushvalue(L, idx);

@@ -256,6 +256,23 @@ int texture_scene_index(lua_State *L, int sidx, int tidx, int arg, int depth)
     return index;
 }
 
+void texture_push_png(lua_State *L, const char *path, const char *what)
+{
+    lc_error err;
+    lc_image *img = lc_image_load_png(path, LC_ENCODE_SRGB, &err);
+    if (!img)
+        luaL_error(L, "%s: %s", what, err.msg);
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);
+    ui->img = img;
+    luaL_setmetatable(L, IMAGE);
+    lancer_charge(L);
+    lc_texture t = lc_texture_default(LC_TEX_IMAGE);
+    t.image = img;
+    push_texture(L, &t);
+    lua_insert(L, -2);
+    lua_setiuservalue(L, -2, TU_IMAGE);
+}
+
 int texture_check(lua_State *L, int idx)
 {
     return luaL_testudata(L, idx, TEXTURE) != NULL;

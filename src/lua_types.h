@@ -32,7 +32,8 @@ typedef struct {
                         ** the end of a render; what follows is scene building */
 } ud_scene;                                       /* user value 1: see SC_CAMERA */
 typedef struct { lc_image *img; } ud_image;
-typedef struct { lc_mesh *m; } ud_mesh;           /* user value 1: its material */
+typedef struct { lc_mesh *m; } ud_mesh;           /* user value 1: its material; 2: the
+                                                  ** materials of its face slots, or nil */
 typedef struct { lc_transform t; } ud_transform;
 typedef struct { lc_transform t; } ud_group;      /* user value 1: its members, an array */
 
@@ -112,5 +113,10 @@ void shapes_push(lua_State *L, const lc_shape *s, int mat);
 int  shapes_match(const lc_shape *added, const lc_shape *listed);
 /* lua_objects.c: pushes the light userdata for a core value. */
 void objects_push_light(lua_State *L, const lc_point_light *l);
+/* A material userdata of m, with no texture (lua_objects.c). */
+void objects_push_material(lua_State *L, const lc_material *m);
+/* An image texture of the PNG at path, sRGB-decoded; raises naming `what`
+** (lua_texture.c). */
+void texture_push_png(lua_State *L, const char *path, const char *what);
 
 #endif
