@@ -6,6 +6,7 @@
 #include <signal.h>
 #include "affine.h"
 #include "bvh.h"
+#include "csg.h"
 #include "mesh.h"
 #include "shape.h"
 
@@ -68,6 +69,7 @@ struct lc_scene {
     SCENE_ARRAY(lc_material, materials);
     shape_list  shapes[LC_SHAPE_KINDS];   /* by kind, each sorted by id */
     SCENE_ARRAY(mesh_prim, meshes);
+    SCENE_ARRAY(csg_tree *, csgs); /* CSG objects, sorted by id */
     SCENE_ARRAY(emitter, emitters);
     SCENE_ARRAY(lc_point_light, lights);
     compiled    c;

@@ -15,6 +15,10 @@
 enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
        PRIM_INSTANCE,       /* a moved mesh: only in BVH refs, never in a hit */
        PRIM_DISC, PRIM_CYLINDER, PRIM_CONE, PRIM_TORUS, PRIM_ELLIPSOID,
+       PRIM_CSG,            /* a CSG object (csg.h): only in BVH refs, never in a hit */
+       PRIM_CSG_FACE,       /* a hit on a CSG object's convex leaf, its normal the
+                            ** leaf's: leaving outward, a ray never meets that leaf */
+       PRIM_CSG_CUT,        /* any other CSG hit (cut faces, concave leaves) */
        PRIM_KINDS };
 #define PRIM_ID(kind, index) (((uint32_t)(kind) << 28) | (uint32_t)(index))
 #define PRIM_KIND(id)        ((unsigned)((id) >> 28))
@@ -25,8 +29,9 @@ enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
 #define PRIM_FLAT ((1u << PRIM_QUAD) | (1u << PRIM_PLANE) | (1u << PRIM_TRIANGLE) | \
                    (1u << PRIM_DISC))
 static inline int prim_flat(unsigned kind) { return (PRIM_FLAT >> kind) & 1; }
-/* Not convex: a ray leaving one outward may meet it again, legitimately. */
-#define PRIM_CONCAVE (1u << PRIM_TORUS)
+/* Not convex: a ray leaving one outward may meet it again, legitimately.
+** A CSG hit names the object and (in hit.instance) the leaf. */
+#define PRIM_CONCAVE ((1u << PRIM_TORUS) | (1u << PRIM_CSG) | (1u << PRIM_CSG_CUT))
 static inline int prim_cannot_return(unsigned kind, int outward)
 {
     return prim_flat(kind) || (outward && !((PRIM_CONCAVE >> kind) & 1));
