@@ -49,11 +49,12 @@ static lc_status check_leaf(const lc_csg_node *nd, lc_error *err)
     if (nd->op == LC_CSG_SHAPE) {
         if (lc_shape_check(&nd->shape, err))
             return LC_EARG;
-        if (!closed_kind(&nd->shape))
+        if (!closed_kind(&nd->shape)) {
+            int axial = nd->shape.kind == LC_CYLINDER || nd->shape.kind == LC_CONE;
             return error_fail(err, LC_EARG, "shape", "a %s%s is not a closed solid",
                               lc_shape_kind_name(nd->shape.kind),
-                              nd->shape.kind == LC_CYLINDER || nd->shape.kind == LC_CONE ?
-                              " without caps" : "");
+                              axial ? " without caps" : "");
+        }
         return LC_OK;
     }
     if (!nd->mesh)
@@ -68,14 +69,15 @@ lc_status lc_csg_check(const lc_csg_node *nodes, size_t n, lc_error *err)
     if (!nodes || n == 0)
         return error_fail(err, LC_EARG, "nodes", "a CSG object needs at least one node");
     if (n > LC_CSG_MAX_NODES)
-        return error_fail(err, LC_EARG, "nodes", "a CSG object has at most %d nodes, got %zu",
-                          LC_CSG_MAX_NODES, n);
+        return error_fail(err, LC_EARG, "nodes", "a CSG object has at most %d nodes, "
+                          "got %zu", LC_CSG_MAX_NODES, n);
     size_t need = 1;                   /* subtrees still to read */
     for (size_t i = 0; i < n; i++) {
         const lc_csg_node *nd = &nodes[i];
         if (need == 0)
-            return error_fail(err, LC_EARG, "nodes", "node %zu lies past the end of the "
-                              "tree, which the root's operands close at node %zu", i, i - 1);
+            return error_fail(err, LC_EARG, "nodes", "node %zu lies past the end of "
+                              "the tree, which the root's operands close at node %zu",
+                              i, i - 1);
         need--;
         if ((unsigned)nd->op >= LC_CSG_OPS)
             return error_fail(err, LC_EARG, "op", "node %zu: unknown operation %d", i,
@@ -226,7 +228,8 @@ csg_tree *csg_build(const lc_csg_node *nodes, size_t n, csg_tree *const *trees,
         !(t->leaves = mem_calloc(nleaves, sizeof *t->leaves)) ||
         !(t->roots = mem_calloc(n, sizeof *t->roots))) {
         csg_free(t);
-        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a CSG object of %zu nodes", n);
+        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a CSG object of %zu "
+                   "nodes", n);
         return NULL;
     }
     /* The description as stored: shapes as a scene lists them. */
@@ -530,7 +533,8 @@ static void next_event(sweep *x, int i)
 /* The set the subtree at root describes, given the leaves' insides: in
 ** reverse prefix order each node finds its operands' values on the stack,
 ** the first on top. */
-static int eval(const csg_tree *t, int root, const unsigned char *in, unsigned char *stack)
+static int eval(const csg_tree *t, int root, const unsigned char *in,
+                unsigned char *stack)
 {
     int sp = 0;
     for (int i = t->nodes[root].end - 1; i >= root; i--) {

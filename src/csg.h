@@ -77,8 +77,8 @@ void   csg_mesh_ray_init(csg_mesh_ray *q, const affine *xf, const ray *r);
 ** the last distance kept were dropped too, so none at one t is split).
 ** *tests counts the triangles tested, *nodes the BVH nodes. */
 size_t csg_mesh_crossings(const csg_mesh *cm, const affine *xf, const csg_mesh_ray *q,
-                          const ray *world, double after, csg_mesh_cross *out, size_t cap,
-                          int *more, uint64_t *tests, uint64_t *nodes);
+                          const ray *world, double after, csg_mesh_cross *out,
+                          size_t cap, int *more, uint64_t *tests, uint64_t *nodes);
 /* The world hit of crossing c: point, error bound, outward normal. */
 void   csg_mesh_hit(const csg_mesh *cm, const affine *xf, const csg_mesh_cross *c,
                     hit *h);
@@ -92,7 +92,8 @@ typedef struct {
     int      end;          /* the index past its subtree */
     int      leaf0, leaf1; /* its leaves: [leaf0, leaf1) */
     int      group;        /* a union drawn as a group: the root's, and those under it */
-    bvh_node box;          /* bounds (lo, hi only): tight for intersections, differences */
+    bvh_node box;          /* bounds (lo, hi only), tight for intersections and
+                           ** differences */
 } csg_node;
 
 typedef struct {
@@ -100,7 +101,8 @@ typedef struct {
     int      kind;         /* an lc_shape_kind; LC_SHAPE_KINDS for a mesh */
     int      material;
     int      convex;       /* a ray leaving it outward never meets it again */
-    int      cut_from;     /* the node whose leaves' material its cut faces take; -1: its own */
+    int      cut_from;     /* the node whose leaves' material its cut faces take;
+                           ** -1: its own */
     bvh_node box;          /* bounds */
     csg_mesh *mesh;        /* mesh leaves */
     affine   *xf;          /* mesh leaves: placed by it, or NULL */

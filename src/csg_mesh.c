@@ -36,11 +36,12 @@ static lc_vec3 corner(const lc_mesh *m, size_t f, int j, lc_vec3 ref)
 lc_status csg_mesh_check(const lc_mesh *m, size_t nf, int *orient, lc_error *err)
 {
     if (nf == 0)
-        return error_fail(err, LC_EARG, "mesh", "the mesh has no face: not a closed solid");
+        return error_fail(err, LC_EARG, "mesh", "the mesh has no face: not a closed "
+                          "solid");
     edge *e = mem_alloc(3 * nf * sizeof *e);
     if (!e)
-        return error_fail(err, LC_ENOMEM, NULL, "out of memory checking a mesh of %zu faces",
-                          nf);
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory checking a mesh of %zu "
+                          "faces", nf);
     size_t ne = 0;
     for (size_t f = 0; f < nf; f++)
         for (int j = 0; j < 3; j++) {
@@ -63,9 +64,9 @@ lc_status csg_mesh_check(const lc_mesh *m, size_t nf, int *orient, lc_error *err
                             "vertices %lu and %lu is in face %lu only (counting from 1)",
                             va, vb, x->face + 1UL);
         else if (j - i > 2)
-            st = error_fail(err, LC_EARG, "mesh", "the mesh is not a closed surface: the "
-                            "edge between vertices %lu and %lu is in %zu faces (counting "
-                            "from 1)", va, vb, j - i);
+            st = error_fail(err, LC_EARG, "mesh", "the mesh is not a closed surface: "
+                            "the edge between vertices %lu and %lu is in %zu faces "
+                            "(counting from 1)", va, vb, j - i);
         else if (e[i].dir == e[i + 1].dir)
             st = error_fail(err, LC_EARG, "mesh", "faces %lu and %lu both run the edge "
                             "from vertex %lu to %lu: their windings disagree (counting "
@@ -104,7 +105,8 @@ csg_mesh *csg_mesh_new(lc_mesh *m, lc_error *err)
         mem_free(cm);
         mem_free(items);
         mem_free(face);
-        error_fail(err, LC_ENOMEM, NULL, "out of memory bounding a mesh of %zu faces", nf);
+        error_fail(err, LC_ENOMEM, NULL, "out of memory bounding a mesh of %zu faces",
+                   nf);
         return NULL;
     }
     for (int k = 0; k < 3; k++) {
@@ -168,8 +170,8 @@ static lc_vec3 vmax(lc_vec3 a, lc_vec3 b)
 /* The world point of BVH ref k at barycentrics b, its error bound (as
 ** instance.c's: the moved vertices' weighted sum, and the transforms'
 ** slack), and its outward unit normal. */
-static void world_hit(const csg_mesh *cm, const affine *xf, uint32_t k, const double b[3],
-                      hit *h)
+static void world_hit(const csg_mesh *cm, const affine *xf, uint32_t k,
+                      const double b[3], hit *h)
 {
     const lc_mesh *m = cm->mesh;
     const uint32_t *ix = m->f + 3 * (size_t)cm->face[k];
@@ -226,8 +228,9 @@ static inline double collect_face(void *ctx, uint32_t k, double tmax)
     const double *v = m->v;
     hit h;
     c->tests++;
-    if (!triangle_hit(v + 3 * (size_t)ix[0], v + 3 * (size_t)ix[1], v + 3 * (size_t)ix[2],
-                      &c->q->r, &c->q->sh, c->after, tmax, &h, h.bary))
+    const double *a = v + 3 * (size_t)ix[0], *b = v + 3 * (size_t)ix[1];
+    if (!triangle_hit(a, b, v + 3 * (size_t)ix[2], &c->q->r, &c->q->sh, c->after, tmax,
+                      &h, h.bary))
         return tmax;
     csg_mesh_cross x = {h.t, 0, 0, k, {h.bary[0], h.bary[1], h.bary[2]}};
     hit w;
@@ -253,8 +256,8 @@ static inline double collect_face(void *ctx, uint32_t k, double tmax)
 }
 
 size_t csg_mesh_crossings(const csg_mesh *cm, const affine *xf, const csg_mesh_ray *q,
-                          const ray *world, double after, csg_mesh_cross *out, size_t cap,
-                          int *more, uint64_t *tests, uint64_t *nodes)
+                          const ray *world, double after, csg_mesh_cross *out,
+                          size_t cap, int *more, uint64_t *tests, uint64_t *nodes)
 {
     collect c = {cm, xf, q, world, after, out, cap, 0, 0};
     *nodes += bvh_closest(&cm->bvh, &q->b, HUGE_VAL, &c, collect_face);

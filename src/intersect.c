@@ -270,7 +270,7 @@ int intersect_occluded_skip(const lc_scene *s, const ray *r, double tmax, uint32
                         bvh_counts *counts)
 {
     uint64_t np = 0, nn = 0;
-    bvh_counts spare;                   /* CSG sweeps count into it when counts is NULL */
+    bvh_counts spare;                 /* CSG sweeps count into it when counts is NULL */
     int found = occluded(s, r, tmax, skip, &np, &nn, counts ? counts : &spare);
     if (counts) {
         counts->prims += np;

@@ -18,6 +18,7 @@
 #define TRANSFORM "lancer.Transform"
 #define GROUP    "lancer.Group"
 #define ENTRY    "lancer.SceneObject"
+#define CSG      "lancer.CSG"
 
 typedef struct { lc_material m; } ud_material;
 typedef struct { lc_shape s; } ud_shape;          /* user value 1: its material */
@@ -32,13 +33,23 @@ typedef struct { lc_image *img; } ud_image;
 typedef struct { lc_mesh *m; } ud_mesh;           /* user value 1: its material */
 typedef struct { lc_transform t; } ud_transform;
 typedef struct { lc_transform t; } ud_group;      /* user value 1: its members, an array */
+typedef struct {
+    lc_csg_op    op;
+    int          cut_object;   /* differences: cut = 'object' */
+    int          moved;        /* t is not the identity */
+    lc_transform t;            /* placed by it, after its operands' own placings */
+    int          depth;        /* nesting levels of operations below, this one counted */
+    size_t       nodes;        /* the length of its description */
+} ud_csg;            /* user values: 1 its operands, an array; 2 its material or nil */
 
 /* A scene's user value is a table: [SC_CAMERA] its camera userdata,
 ** [SC_MATERIALS] a table from material userdata to the index the core gave
 ** it (so a material shared by a million spheres is stored once),
 ** [SC_DEFAULT] the index of the default material, [SC_MESHES] a table from
-** each mesh's core pointer (light userdata) to its userdata, for listing. */
-enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4 };
+** each mesh's core pointer (light userdata) to its userdata, for listing,
+** [SC_CSGS] a table from each CSG object's id (the core's) to the value
+** added, for scene:remove(csg). */
+enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4, SC_CSGS = 5 };
 
 /* A metatable `name` with the metamethods `meta` and, when given, methods
 ** that its __index looks up under "methods". */
@@ -62,6 +73,7 @@ void explain_register(lua_State *L);   /* lua_explain.c, with ray trees */
 void image_register(lua_State *L);     /* lua_image.c */
 void motion_register(lua_State *L);    /* lua_motion.c: transforms and groups */
 void scene_objects_register(lua_State *L); /* lua_scene_objects.c: objects, remove */
+void csg_lua_register(lua_State *L);   /* lua_csg.c: union, intersection, ... */
 void hook_register(lua_State *L);      /* lua_hook.c: set_host_hook */
 
 /* lua_scene.c: the scene userdata at idx, raising when it is not one or is freed. */
@@ -103,5 +115,22 @@ void shapes_push(lua_State *L, const lc_shape *s, int mat);
 int  shapes_match(const lc_shape *added, const lc_shape *listed);
 /* lua_objects.c: pushes the light userdata for a core value. */
 void objects_push_light(lua_State *L, const lc_point_light *l);
+/* lua_motion.c: pushes a group of the members at stack index members,
+** placed by t. */
+void motion_push_group(lua_State *L, const lc_transform *t, int members);
+
+/* lua_csg.c: the CSG object at idx moved by t, pushed. */
+int    csg_lua_moved(lua_State *L, int idx, const lc_transform *t);
+/* Pushes the flat description of the CSG object at idx, placed by xf (or
+** not: NULL), as three values: a userdata holding its lc_csg_node array
+** (meshes not filled in, materials 0), a table from each leaf's node
+** number (from 1) to its material userdata (absent: the default), and one
+** from each mesh leaf's to its mesh userdata. Returns the node count;
+** raises at arg when a leaf cannot be placed by xf. */
+size_t csg_lua_describe(lua_State *L, int idx, const lc_transform *xf, int arg);
+/* Pushes the CSG object a scene lists, nodes[0, n); mats: the scene's
+** materials by index (lua_scene_objects.c), meshes: its SC_MESHES. */
+void   csg_lua_push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, int mats,
+                           int meshes);
 
 #endif

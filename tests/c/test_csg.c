@@ -146,7 +146,8 @@ static double in_box(const lc_csg_node *n, lc_vec3 p)
     const lc_shape *s = &n->shape;
     double det = v3_dot(s->u, v3_cross(s->v, s->w));
     lc_vec3 q = v3_sub(p, s->p);
-    double a[3] = {v3_dot(q, v3_cross(s->v, s->w)) / det, v3_dot(q, v3_cross(s->w, s->u)) / det,
+    double a[3] = {v3_dot(q, v3_cross(s->v, s->w)) / det,
+                   v3_dot(q, v3_cross(s->w, s->u)) / det,
                    v3_dot(q, v3_cross(s->u, s->v)) / det};
     double m = HUGE_VAL;
     for (int k = 0; k < 3; k++)
@@ -161,7 +162,8 @@ static double in_axial(const lc_csg_node *n, lc_vec3 p)
     lc_vec3 q = v3_sub(p, s->p);
     double h = v3_dot(q, s->u) / v3_dot(s->u, s->u);
     double rho = v3_len(v3_madd(q, s->u, -h));
-    double r = s->kind == LC_CYLINDER ? s->radius : s->radius + (s->radius2 - s->radius) * h;
+    double r = s->kind == LC_CYLINDER ? s->radius
+                                      : s->radius + (s->radius2 - s->radius) * h;
     return fmin(fmin(h, 1 - h) * v3_len(s->u), r - rho);
 }
 
@@ -305,7 +307,9 @@ static int combine(lc_csg_op o, const int *v, int n)
         else
             rest = rest || v[k];
     }
-    return o == LC_CSG_DIFFERENCE ? r && !rest : o == LC_CSG_INTERSECTION ? r : r || rest;
+    if (o == LC_CSG_DIFFERENCE)
+        return r && !rest;
+    return o == LC_CSG_INTERSECTION ? r : r || rest;
 }
 
 /* Whether p is inside the object by the sweep: its first surface along a
@@ -339,8 +343,9 @@ static void classify(const lc_csg_node *nodes, size_t n, const test_leaf *const 
         int want = truth(in), got = inside_by_ray(s, p);
         in_count += want;
         if (got != want)
-            fail_msg("%s: point (%.17g, %.17g, %.17g) is %s, the sweep says %s", what, p.x,
-                     p.y, p.z, want ? "inside" : "outside", got ? "inside" : "outside");
+            fail_msg("%s: point (%.17g, %.17g, %.17g) is %s, the sweep says %s", what,
+                     p.x, p.y, p.z, want ? "inside" : "outside",
+                     got ? "inside" : "outside");
         if (!want) {
             ray r = mkray(p, unit_random());
             double tmax = 3 * uniform();
@@ -381,11 +386,12 @@ static void union_is_a_group(const lc_csg_node *nodes, const char *what)
         lc_vec3 p = v3(4 * uniform() - 2, 4 * uniform() - 2, 4 * uniform() - 2);
         ray r = mkray(p, unit_random());
         hit h, a, b;
-        int k = trace(s, r, &h), ka = trace(parts[0], r, &a), kb = trace(parts[1], r, &b);
+        int k = trace(s, r, &h);
+        int ka = trace(parts[0], r, &a), kb = trace(parts[1], r, &b);
         double want = ka && kb ? fmin(a.t, b.t) : ka ? a.t : kb ? b.t : 0;
         if (k != (ka || kb) || (k && h.t != want))
-            fail_msg("%s: ray %d: %.17g, its operands' nearest %.17g", what, i, k ? h.t : 0,
-                     want);
+            fail_msg("%s: ray %d: %.17g, its operands' nearest %.17g", what, i,
+                     k ? h.t : 0, want);
     }
     for (int k = 0; k < 2; k++)
         lc_scene_free(parts[k]);
@@ -425,8 +431,8 @@ static void truth_tables(void **state)
     classify(classic, 7, four, 4, truth_classic, "(box & sphere) - (cylinder | cone)");
     /* ellipsoid - (mesh - torus) */
     const test_leaf *three[3] = {&all[5], &all[6], &all[4]};
-    lc_csg_node nested[5] = {op(LC_CSG_DIFFERENCE, 2), all[5].node, op(LC_CSG_DIFFERENCE, 2),
-                             all[6].node, all[4].node};
+    lc_csg_node nested[5] = {op(LC_CSG_DIFFERENCE, 2), all[5].node,
+                             op(LC_CSG_DIFFERENCE, 2), all[6].node, all[4].node};
     classify(nested, 5, three, 3, truth_nested, "ellipsoid - (mesh - torus)");
 }
 
@@ -452,7 +458,8 @@ static void intersection_of_two_spheres(void **state)
         near(h.t, 5 + z, 1e-14, "entry distance");
         /* x = 0.5: both at once, one event; the first operand's face shows */
         if (h.material != (za <= zb ? 1 : 2))
-            fail_msg("ray %d: material %d, expected %d", i, h.material, za <= zb ? 1 : 2);
+            fail_msg("ray %d: material %d, expected %d", i, h.material,
+                     za <= zb ? 1 : 2);
         lc_vec3 c = za <= zb ? v3(0, 0, 0) : v3(1, 0, 0);
         same_vec(h.n, v3_sub(v3(x, y, z), c), 1e-14, "normal");
         /* and out through the nearer sphere */
@@ -493,9 +500,11 @@ static void box_minus_sphere_through_the_hole(void **state)
             near(h.t, 5 + z, 1e-14, "the dent's floor");
             same_vec(h.n, v3_mul(v3(-x, -y, -(z + 1)), 2), 1e-14, "its normal");
             if (h.material != (cut_object ? 3 : 4))
-                fail_msg("dent: material %d, expected %d", h.material, cut_object ? 3 : 4);
+                fail_msg("dent: material %d, expected %d", h.material,
+                         cut_object ? 3 : 4);
             if (PRIM_KIND(h.shape) != PRIM_CSG_CUT || h.instance != 3)
-                fail_msg("dent: hit kind %u, node %u", PRIM_KIND(h.shape), h.instance - 1);
+                fail_msg("dent: hit kind %u, node %u", PRIM_KIND(h.shape),
+                         h.instance - 1);
         }
         hit h;
         if (!trace(s, mkray(v3(0.7, 0.1, -5), v3(0, 0, 1)), &h))
@@ -525,11 +534,11 @@ static void same_hits(const lc_scene *a, const lc_scene *b, lc_vec3 from, double
             continue;
         hits++;
         if (ha.t != hb.t || memcmp(&ha.p, &hb.p, sizeof ha.p) ||
-            memcmp(&ha.n, &hb.n, sizeof ha.n) || memcmp(&ha.perr, &hb.perr, sizeof ha.perr) ||
-            ha.material != hb.material)
-            fail_msg("%s: ray %d: t %.17g vs %.17g, n (%g %g %g) vs (%g %g %g), material "
-                     "%d vs %d", what, i, hb.t, ha.t, hb.n.x, hb.n.y, hb.n.z, ha.n.x, ha.n.y,
-                     ha.n.z, hb.material, ha.material);
+            memcmp(&ha.n, &hb.n, sizeof ha.n) ||
+            memcmp(&ha.perr, &hb.perr, sizeof ha.perr) || ha.material != hb.material)
+            fail_msg("%s: ray %d: t %.17g vs %.17g, n (%g %g %g) vs (%g %g %g), "
+                     "material %d vs %d", what, i, hb.t, ha.t, hb.n.x, hb.n.y, hb.n.z,
+                     ha.n.x, ha.n.y, ha.n.z, hb.material, ha.material);
     }
     if (hits < n / 4)
         fail_msg("%s: only %d of %d rays hit", what, hits, n);
@@ -558,7 +567,7 @@ static void coincident_and_tangent_cutters(void **state)
     lc_shape a = box(v3(0, 0, 0), v3(1, 1, 1));
     lc_shape flush = box(v3(0.25, 0.25, 1), v3(0.75, 0.75, 2));      /* on top of it */
     lc_shape side = box(v3(1, -0.5, 0.2), v3(3, 0.5, 0.8));          /* beside it */
-    lc_shape touch = sphere(v3(0.5, 0.5, 1.5), 0.5);                 /* tangent at the top */
+    lc_shape touch = sphere(v3(0.5, 0.5, 1.5), 0.5);                 /* tangent on top */
     lc_shape edge = sphere(v3(1.5, 0.5, 1.5), sqrt(0.5));            /* along an edge */
     lc_transform rot, mv = lc_transform_translate(v3(3, -2, 1)), m;
     lc_transform_rotate(v3(1, 2, 3), 37, &rot, NULL);
@@ -577,10 +586,12 @@ static void coincident_and_tangent_cutters(void **state)
         lc_csg_node nodes[5] = {op(LC_CSG_DIFFERENCE, 4), leaf(sa, 2), leaf(sf, 5),
                                 leaf(ss, 6), leaf(st, 4)};
         lc_scene *cut = csg_scene(nodes, 5);
-        lc_vec3 c = moved ? lc_transform_point(&m, v3(0.5, 0.5, 0.5)) : v3(0.5, 0.5, 0.5);
-        lc_vec3 top = moved ? lc_transform_point(&m, v3(0.5, 0.5, 1)) : v3(0.5, 0.5, 1);
-        lc_vec3 eye = moved ? lc_transform_point(&m, v3(0.3, -1.5, 4)) : v3(0.3, -1.5, 4);
-        lc_vec3 eye2 = moved ? lc_transform_point(&m, v3(4, 0.6, 0.5)) : v3(4, 0.6, 0.5);
+        lc_transform id = lc_transform_identity();
+        const lc_transform *at = moved ? &m : &id;
+        lc_vec3 c = lc_transform_point(at, v3(0.5, 0.5, 0.5));
+        lc_vec3 top = lc_transform_point(at, v3(0.5, 0.5, 1));
+        lc_vec3 eye = lc_transform_point(at, v3(0.3, -1.5, 4));
+        lc_vec3 eye2 = lc_transform_point(at, v3(4, 0.6, 0.5));
         same_hits(plain, cut, eye, 1.2, c, 20000, moved ? "rotated, flush" : "flush");
         same_hits(plain, cut, eye2, 1.2, c, 20000, moved ? "rotated, beside" : "beside");
         same_hits(plain, cut, eye, 1e-6, top, 5000, moved ? "rotated, at the tangent" :
@@ -588,7 +599,7 @@ static void coincident_and_tangent_cutters(void **state)
         lc_scene_free(cut);
         lc_csg_node nodes2[3] = {op(LC_CSG_DIFFERENCE, 2), leaf(sa, 2), leaf(se, 4)};
         cut = csg_scene(nodes2, 3);
-        lc_vec3 e = moved ? lc_transform_point(&m, v3(1, 0.5, 1)) : v3(1, 0.5, 1);
+        lc_vec3 e = lc_transform_point(at, v3(1, 0.5, 1));
         same_hits(plain, cut, eye, 1e-4, e, 5000, moved ? "rotated, edge" : "edge");
         lc_scene_free(cut);
         lc_scene_free(plain);
@@ -604,8 +615,8 @@ static void coincident_and_tangent_cutters(void **state)
             fail_msg("missed the pocketed box at (%g, %g)", x, y);
         int in = x >= 0.25 && x <= 0.75 && y >= 0.25 && y <= 0.75;
         if (h.p.z != (in ? 0.5 : 1) || h.n.z != 1 || h.material != (in ? 5 : 2))
-            fail_msg("pocket at (%g, %g): z %.17g, n.z %g, material %d", x, y, h.p.z, h.n.z,
-                     h.material);
+            fail_msg("pocket at (%g, %g): z %.17g, n.z %g, material %d", x, y, h.p.z,
+                     h.n.z, h.material);
     }
     lc_scene_free(s);
 }
@@ -616,7 +627,8 @@ static void coincident_and_tangent_cutters(void **state)
 static void camera_inside(void **state)
 {
     (void)state;
-    lc_csg_node nodes[3] = {op(LC_CSG_DIFFERENCE, 2), leaf(box(v3(-2, -2, -2), v3(2, 2, 2)), 1),
+    lc_csg_node nodes[3] = {op(LC_CSG_DIFFERENCE, 2),
+                            leaf(box(v3(-2, -2, -2), v3(2, 2, 2)), 1),
                             leaf(sphere(v3(0, 0, 0), 1), 2)};
     lc_scene *s = csg_scene(nodes, 3);
     hit h;
@@ -692,8 +704,8 @@ static void nested_and_moved(void **state)
         lc_vec3 p = lc_transform_point(&m, ha.p);
         if (!(v3_len(v3_sub(p, hb.p)) < 1e-9 * 1e5) || ha.material != hb.material ||
             ha.instance != hb.instance)
-            fail_msg("ray %d: (%g %g %g) vs (%g %g %g), material %d vs %d", i, p.x, p.y, p.z,
-                     hb.p.x, hb.p.y, hb.p.z, ha.material, hb.material);
+            fail_msg("ray %d: (%g %g %g) vs (%g %g %g), material %d vs %d", i, p.x, p.y,
+                     p.z, hb.p.x, hb.p.y, hb.p.z, ha.material, hb.material);
     }
     if (hits < 5000)
         fail_msg("only %d hits", hits);
@@ -739,9 +751,9 @@ static void mesh_leaf_against_the_box(void **state)
                 continue;
             if (!(fabs(ha.t - hb.t) <= 1e-14 * 5) || ha.material != hb.material ||
                 !(v3_len(v3_sub(ha.n, hb.n)) < 1e-14))
-                fail_msg("winding %d, ray %d: t %.17g vs %.17g, material %d vs %d, n (%g %g "
-                         "%g) vs (%g %g %g)", inward, i, ha.t, hb.t, ha.material, hb.material,
-                         ha.n.x, ha.n.y, ha.n.z, hb.n.x, hb.n.y, hb.n.z);
+                fail_msg("winding %d, ray %d: t %.17g vs %.17g, material %d vs %d, n "
+                         "(%g %g %g) vs (%g %g %g)", inward, i, ha.t, hb.t, ha.material,
+                         hb.material, ha.n.x, ha.n.y, ha.n.z, hb.n.x, hb.n.y, hb.n.z);
         }
         lc_scene_free(a);
         lc_scene_free(b);
@@ -787,7 +799,8 @@ static void refusals(void **state)
     cyl.radius = 1;
     n[1] = leaf(cyl, 0);
     assert_int_equal(lc_csg_check(n, 3, &err), LC_EARG);
-    assert_string_equal(err.msg, "node 1: a cylinder without caps is not a closed solid");
+    assert_string_equal(err.msg,
+                        "node 1: a cylinder without caps is not a closed solid");
     n[1] = leaf(sphere(v3(0, 0, 0), -1), 0);
     assert_int_equal(lc_csg_check(n, 3, &err), LC_EARG);
     assert_string_equal(err.field, "radius");
@@ -893,8 +906,8 @@ static void spawned_rays_never_return(void **state)
                 faces++;
         }
         if (back || faces || hits < rays / 4)
-            fail_msg("scale %g, moved %g: %d of %d spawned rays met their point again, %d "
-                     "met the convex leaf they left", sc, T, back, hits, faces);
+            fail_msg("scale %g, moved %g: %d of %d spawned rays met their point again, "
+                     "%d met the convex leaf they left", sc, T, back, hits, faces);
         lc_scene_free(s);
     }
     lc_scene_free(base);
