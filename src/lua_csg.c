@@ -318,6 +318,31 @@ size_t csg_lua_describe(lua_State *L, int idx, const lc_transform *xf, int arg)
 
 /* ---- what a scene lists --------------------------------------------------------- */
 
+/* The nesting depth and description length of the operand at idx, as the
+** constructor counts them (a group is a union), without checking it again
+** (a mesh may have grown since: the scene holds the faces it had). */
+static void count_operand(lua_State *L, int idx, int *depth, size_t *nodes)
+{
+    idx = lua_absindex(L, idx);
+    ud_csg *c = luaL_testudata(L, idx, CSG);
+    *depth = c ? c->depth : 0;
+    *nodes = c ? c->nodes : 1;
+    if (!luaL_testudata(L, idx, GROUP))
+        return;
+    lua_getiuservalue(L, idx, 1);
+    lua_Integer n = (lua_Integer)lua_rawlen(L, -1);
+    for (lua_Integer i = 1; i <= n; i++) {
+        int d;
+        size_t k;
+        lua_rawgeti(L, -1, i);
+        count_operand(L, -1, &d, &k);
+        lua_pop(L, 1);
+        *depth = d + 1 > *depth ? d + 1 : *depth;
+        *nodes += k;
+    }
+    lua_pop(L, 1);
+}
+
 /* Pushes node i's subtree; returns the index past it. */
 static size_t push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, size_t i,
                           int mats, int meshes, int depth)
@@ -368,13 +393,13 @@ static size_t push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, size
     size_t j = i + 1, total = 1;
     int deepest = 0;
     for (int k = 0; k < nd->count && j < n; k++) {
-        size_t next = push_listed(L, nodes, n, j, mats, meshes, depth + 1);
-        ud_csg *sub = luaL_testudata(L, -1, CSG);
-        int d = sub ? sub->depth : 0;
+        j = push_listed(L, nodes, n, j, mats, meshes, depth + 1);
+        int d;
+        size_t c;
+        count_operand(L, -1, &d, &c);
         deepest = d > deepest ? d : deepest;
-        total += next - j;
+        total += c;
         lua_rawseti(L, ops, k + 1);
-        j = next;
     }
     lua_pushnil(L);
     ud_csg *u = push_csg(L, nd->op, ops, -1);

@@ -33,4 +33,5 @@ frame 06_orbit 7
 frame 07_wave 10
 still 08_moving 107
 still 09_soft_glossy_lens 90
+still 11_csg 107
 ls -l "$out"

@@ -18,6 +18,8 @@ return {
   ["examples/08_moving.lua @48x36x1"] = "8bee0a1fc80d30e0",
   ["examples/09_soft_glossy_lens.lua @32x24x4"] = "eefec01d0f51ac9a",
   ["examples/09_soft_glossy_lens.lua @48x36x1"] = "cfd68782f73bbe13",
+  ["examples/11_csg.lua @32x24x4"] = "69ec95b21b4f30ab",
+  ["examples/11_csg.lua @48x36x1"] = "5951ce5c207f03fc",
   ["scenes/bench/b1.lua 1 @32x24x4"] = "e725cb96731d5589",
   ["scenes/bench/b1.lua 1 @48x36x1"] = "2112b6efa95a4c41",
   ["scenes/bench/b2.lua 300 @32x24x4"] = "9f1ad755f9097b14",
