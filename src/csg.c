@@ -194,12 +194,14 @@ static lc_status make_leaf(csg_leaf *lf, const lc_csg_node *nd, csg_tree *const 
     if (nd->op == LC_CSG_SHAPE) {
         lf->kind = nd->shape.kind;
         lf->convex = nd->shape.kind != LC_TORUS;
+        lf->boxed = nd->shape.kind != LC_SPHERE && nd->shape.kind != LC_BOX;
         shape_prepare(&nd->shape, &lf->g);
         shape_bounds(nd->shape.kind, &lf->g, lf->box.lo, lf->box.hi);
         return LC_OK;
     }
     lf->kind = LC_SHAPE_KINDS;
     lf->convex = 0;
+    lf->boxed = 1;
     if (!lc_transform_is_identity(&nd->transform)) {
         lf->xf = mem_alloc(sizeof *lf->xf);
         if (!lf->xf)
@@ -372,6 +374,8 @@ struct csg_cursor {
     csg_mesh_cross *queue;   /* mesh leaves: crossings read, queue[at, nq) */
     size_t at, nq;
     int    more;        /* the queue was full: more may lie beyond */
+    placed_ray pr;      /* tori: the canonical ray and its roots, roots[at, nq) */
+    double roots[4];
 };
 
 /* One query's state: the cursors, the leaves' insides before and after a
@@ -382,6 +386,7 @@ typedef struct {
     const bvh_ray *b;
     csg_cursor *cur;
     unsigned char *state, *pre, *member, *stack;
+    int changed;        /* leaves whose inside the group changed */
     uint64_t tests, nodes;
 } sweep;
 
@@ -404,7 +409,7 @@ static void sweep_init(sweep *x, const csg_tree *t, const ray *r, const bvh_ray 
     mem += align16(t->nleaves * sizeof(csg_cursor));
     csg_mesh_cross *q = (csg_mesh_cross *)(void *)mem;
     mem += align16(t->nmesh * CSG_MESH_QUEUE * sizeof(csg_mesh_cross));
-    for (size_t i = 0; i < t->nleaves; i++)
+    for (size_t i = 0; t->nmesh && i < t->nleaves; i++)
         if (t->leaves[i].mesh) {
             x->cur[i].queue = q;
             q += CSG_MESH_QUEUE;
@@ -462,6 +467,23 @@ static int next_cross(sweep *x, int i, csg_cross *out)
         c->after = m->t;
         return 1;
     }
+    if (lf->kind == LC_TORUS) {          /* the quartic once for all its roots */
+        if (c->nq == 0 && c->at == 0) {
+            x->tests++;
+            c->nq = (size_t)torus_all_roots(&lf->g.p, x->r, 0, &c->pr, c->roots);
+        }
+        while (c->at < c->nq) {
+            if (!torus_root_hit(&lf->g.p, &c->pr, c->roots[c->at++], &out->h))
+                continue;
+            out->t = out->h.t;
+            out->mesh = 0;
+            csg_cross_sense(x->r->d, &out->h, &out->sense, &out->e);
+            c->after = out->t;
+            return 1;
+        }
+        c->done = 1;
+        return 0;
+    }
     /* Distances come back through each kind's own scaling (a placed shape's
     ** canonical space): a root at `after` may come back as itself. Asked
     ** again from one ulp further, a few times, it cannot. */
@@ -475,6 +497,9 @@ static int next_cross(sweep *x, int i, csg_cross *out)
             out->mesh = 0;
             csg_cross_sense(x->r->d, &out->h, &out->sense, &out->e);
             c->after = out->t;
+            /* A line leaves a convex solid once: nothing after its exit,
+            ** and no need to ask. */
+            c->done = lf->convex && out->sense < 0;
             return 1;
         }
         from = next_up(max2(from, out->h.t));
@@ -573,9 +598,14 @@ static int pick(sweep *x, int root, int inside)
     for (int i = rn->leaf0; i < rn->leaf1; i++) {
         if (!x->member[i] || x->pre[i] == x->state[i])
             continue;
-        x->state[i] = x->pre[i];
-        int alone = eval(x->t, root, x->state, x->stack) != inside;
-        x->state[i] = !x->pre[i];
+        /* alone: with it as it was, the set would be too (said without
+        ** evaluating when it is the only leaf that changed) */
+        int alone = 1;
+        if (x->changed > 1) {
+            x->state[i] = x->pre[i];
+            alone = eval(x->t, root, x->state, x->stack) != inside;
+            x->state[i] = !x->pre[i];
+        }
         int same = x->state[i] == inside;
         int score = 2 * alone + same;
         if (score > best_score) {
@@ -636,9 +666,12 @@ static int sweep_root(sweep *x, int root, double tmax, int enter, int *leaf, int
         c->at = c->nq = 0;
         c->more = 0;
         c->live = 0;
-        /* A ray that misses a leaf's box never crosses it, nor starts in it. */
-        c->done = bvh_enter(&t->leaves[i].box, x->b->o, x->b->inv, x->b->neg,
-                            HUGE_VAL) == HUGE_VAL;
+        /* A ray that meets a leaf's box only past tmax, if at all, does not
+        ** start in it nor cross it before. (Spheres and boxes are as quick
+        ** to test as their boxes.) */
+        c->done = t->leaves[i].boxed &&
+                  bvh_enter(&t->leaves[i].box, x->b->o, x->b->inv, x->b->neg,
+                            tmax) == HUGE_VAL;
         if (!c->done)
             next_event(x, i);
         x->state[i] = c->live && c->sense < 0;
@@ -669,9 +702,12 @@ static int sweep_root(sweep *x, int root, double tmax, int enter, int *leaf, int
                 }
             }
         }
+        x->changed = 0;
         for (int i = rn->leaf0; i < rn->leaf1; i++)
-            if (x->member[i])
+            if (x->member[i]) {
                 x->state[i] = x->cur[i].live && x->cur[i].sense < 0;
+                x->changed += x->state[i] != x->pre[i];
+            }
         int g = eval(t, root, x->state, x->stack);
         if (g != f) {
             int i = pick(x, root, g);

@@ -101,6 +101,7 @@ typedef struct {
     int      kind;         /* an lc_shape_kind; LC_SHAPE_KINDS for a mesh */
     int      material;
     int      convex;       /* a ray leaving it outward never meets it again */
+    int      boxed;        /* slower to test than its box: the box goes first */
     int      cut_from;     /* the node whose leaves' material its cut faces take;
                            ** -1: its own */
     bvh_node box;          /* bounds */

@@ -338,6 +338,11 @@ int       torus_light_sample(const placed_geom *g, lc_vec3 p, const double u[2],
                              light_sample *out);
 /* The canonical roots (up to 4, ascending) of the ray's quartic in (lo, hi). */
 int       torus_roots(double minor, const ray *r, double lo, double hi, double roots[4]);
+/* Every root beyond tmin at once (CSG leaves want them all: one quartic, not
+** one per root), with the canonical ray in *pr; each root as a hit. */
+int       torus_all_roots(const placed_geom *g, const ray *r, double tmin,
+                          placed_ray *pr, double roots[4]);
+int       torus_root_hit(const placed_geom *g, const placed_ray *pr, double s, hit *h);
 
 /* ellipsoid.c: the unit sphere, placed. */
 lc_status ellipsoid_check(const lc_shape *s, lc_error *err);
