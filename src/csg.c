@@ -362,9 +362,10 @@ typedef struct {
 } csg_cross;
 
 struct csg_cursor {
-    csg_cross ev;       /* the next event's crossing (the first of its sense) */
-    csg_cross got;      /* the last event taken by a group */
-    csg_cross peek;     /* the crossing after ev's run, when read */
+    csg_cross slot[3];  /* by number: */
+    unsigned char ev;   /* the next event's crossing (the first of its sense) */
+    unsigned char got;  /* the last event taken by a group */
+    unsigned char peek; /* the crossing after ev's run, when read */
     double lo, hi;      /* ev's reach: its run's crossings, give or take their errors */
     double after;       /* the leaf's crossings beyond this are still to read */
     int    live;        /* ev holds an event */
@@ -508,39 +509,45 @@ static int next_cross(sweep *x, int i, csg_cross *out)
     return 0;
 }
 
-/* Leaf i's next event: runs of crossings read until one goes in or out. */
+/* Leaf i's next event: runs of crossings read until one goes in or out.
+** The cursor's three crossings move by their slot numbers, not copied. */
+static void swap_slots(unsigned char *a, unsigned char *b)
+{
+    unsigned char t = *a;
+    *a = *b;
+    *b = t;
+}
+
 static void next_event(sweep *x, int i)
 {
     csg_cursor *c = &x->cur[i];
     for (;;) {
-        csg_cross a;
         if (c->peeked == 1) {
-            a = c->peek;
+            swap_slots(&c->ev, &c->peek);
             c->peeked = 0;
-        } else if (c->peeked < 0 || !next_cross(x, i, &a)) {
+        } else if (c->peeked < 0 || !next_cross(x, i, &c->slot[c->ev])) {
             c->live = 0;
             c->peeked = -1;
             return;
         }
-        double lo = a.t - a.e, hi = a.t + a.e;
-        int first = a.sense, last = a.sense;
-        if (first)
-            c->ev = a;
+        const csg_cross *a = &c->slot[c->ev];
+        double lo = a->t - a->e, hi = a->t + a->e;
+        int first = a->sense, last = a->sense;
         for (;;) {
-            if (!next_cross(x, i, &c->peek)) {
+            const csg_cross *b = &c->slot[c->peek];
+            if (!next_cross(x, i, &c->slot[c->peek])) {
                 c->peeked = -1;
                 break;
             }
-            const csg_cross *b = &c->peek;
             if (b->t - b->e > hi) {
                 c->peeked = 1;
                 break;
             }
             hi = max2(hi, b->t + b->e);
             if (b->sense) {
-                if (!first) {
+                if (!first) {           /* the first that goes somewhere stands for it */
                     first = b->sense;
-                    c->ev = *b;
+                    swap_slots(&c->ev, &c->peek);
                 }
                 last = b->sense;
             }
@@ -621,7 +628,7 @@ static void finish(sweep *x, int i, int inside, uint32_t index, hit *h)
 {
     const csg_tree *t = x->t;
     const csg_leaf *lf = &t->leaves[i];
-    const csg_cross *c = &x->cur[i].got;
+    const csg_cross *c = &x->cur[i].slot[x->cur[i].got];
     if (c->mesh)
         csg_mesh_hit(lf->mesh, lf->xf, &c->mc, h);
     else
@@ -663,6 +670,9 @@ static int sweep_root(sweep *x, int root, double tmax, int enter, int *leaf, int
         csg_cursor *c = &x->cur[i];
         c->after = 0;
         c->peeked = 0;
+        c->ev = 0;
+        c->got = 1;
+        c->peek = 2;
         c->at = c->nq = 0;
         c->more = 0;
         c->live = 0;
@@ -695,7 +705,7 @@ static int sweep_root(sweep *x, int root, double tmax, int enter, int *leaf, int
                 csg_cursor *c = &x->cur[i];
                 while (c->live && c->lo <= reach) {
                     x->member[i] = 1;
-                    c->got = c->ev;
+                    swap_slots(&c->got, &c->ev);
                     reach = max2(reach, c->hi);
                     next_event(x, i);
                     grew = 1;
@@ -715,7 +725,7 @@ static int sweep_root(sweep *x, int root, double tmax, int enter, int *leaf, int
                 f = g;
                 continue;
             }
-            if (!(x->cur[i].got.t < tmax))
+            if (!(x->cur[i].slot[x->cur[i].got].t < tmax))
                 return 0;
             if (g || !enter) {
                 *leaf = i;
