@@ -913,6 +913,61 @@ static void spawned_rays_never_return(void **state)
     lc_scene_free(base);
 }
 
+/* Bounds: a union's and a merge's enclose their operands', an
+** intersection's are their common box, a difference's its first operand's
+** (not the union of all), nested alike; and every surface point found
+** lies inside them. */
+static void bounds_are_tight(void **state)
+{
+    (void)state;
+    lc_shape a = sphere(v3(0, 0, 0), 1), b = sphere(v3(1.5, 0, 0), 1);
+    float la[3], ha[3], lb[3], hb[3];
+    sphere_geom ga, gb;
+    shape_prepare(&a, &ga);
+    shape_prepare(&b, &gb);
+    shape_bounds(LC_SPHERE, &ga, la, ha);
+    shape_bounds(LC_SPHERE, &gb, lb, hb);
+    const lc_csg_op ops[] = {LC_CSG_UNION, LC_CSG_MERGE, LC_CSG_INTERSECTION,
+                             LC_CSG_DIFFERENCE};
+    for (int o = 0; o < 4; o++) {
+        lc_csg_node n[3] = {op(ops[o], 2), leaf(a, 0), leaf(b, 0)};
+        lc_error err;
+        csg_tree *t = csg_build(n, 3, NULL, 0, &err);
+        if (!t)
+            fail_msg("build: %s", err.msg);
+        float lo[3], hi[3];
+        csg_bounds(t, lo, hi);
+        for (int k = 0; k < 3; k++) {
+            float wl = ops[o] == LC_CSG_INTERSECTION ? fmaxf(la[k], lb[k]) :
+                       ops[o] == LC_CSG_DIFFERENCE ? la[k] : fminf(la[k], lb[k]);
+            float wh = ops[o] == LC_CSG_INTERSECTION ? fminf(ha[k], hb[k]) :
+                       ops[o] == LC_CSG_DIFFERENCE ? ha[k] : fmaxf(ha[k], hb[k]);
+            if (lo[k] != wl || hi[k] != wh)
+                fail_msg("%s, axis %d: [%g, %g], expected [%g, %g]",
+                         lc_csg_op_name(ops[o]), k, lo[k], hi[k], wl, wh);
+        }
+        csg_free(t);
+    }
+    /* Every hit on the spawn scene's objects lies in its object's box. */
+    lc_scene *s = spawn_scene();
+    compile_or_fail(s);
+    for (int i = 0; i < 20000; i++) {
+        lc_vec3 from = v3_add(v3(0.5, 0.5, 0.5), v3_mul(unit_random(), 6));
+        lc_vec3 at = v3(-2.5 + 7 * uniform(), uniform(), uniform());
+        ray r = mkray(from, v3_sub(at, from));
+        hit h;
+        if (!trace(s, r, &h))
+            continue;
+        float lo[3], hi[3];
+        csg_bounds(s->csgs[PRIM_INDEX(h.shape)], lo, hi);
+        double p[3] = {h.p.x, h.p.y, h.p.z};
+        for (int k = 0; k < 3; k++)
+            if (!(p[k] >= lo[k] && p[k] <= hi[k]))
+                fail_msg("hit %g outside [%g, %g] on axis %d", p[k], lo[k], hi[k], k);
+    }
+    lc_scene_free(s);
+}
+
 /* Listing, removal and copies: the description comes back as stored. */
 static void listing_and_removal(void **state)
 {
@@ -953,6 +1008,7 @@ int main(void)
         cmocka_unit_test(mesh_leaf_against_the_box),
         cmocka_unit_test(refusals),
         cmocka_unit_test(spawned_rays_never_return),
+        cmocka_unit_test(bounds_are_tight),
         cmocka_unit_test(listing_and_removal),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
