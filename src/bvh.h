@@ -85,8 +85,9 @@ void bvh_bounds_grow(float lo[3], float hi[3], lc_vec3 p);
 #define BVH_MAX_DEPTH 64
 #define BVH_STACK     (3 * (BVH_MAX_DEPTH + 16))
 
-/* Intersection work, counted per thread: primitive and BVH box tests. */
-typedef struct { uint64_t prims, nodes; } bvh_counts;
+/* Intersection work, counted per thread: primitive and BVH node tests, and
+** the CSG sweeps' leaf tests (csg.h). */
+typedef struct { uint64_t prims, nodes, csg; } bvh_counts;
 
 /* A ray as the slab tests read it: origin, reciprocal direction and the
 ** signs of the reciprocals (so -0 counts as negative). */

@@ -55,7 +55,7 @@ static lc_status list_triangles(lc_scene *s, sig_atomic_t seen, lc_error *err)
 static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
 {
     compiled *c = &s->c;
-    size_t n = c->nflat + c->ninstances;
+    size_t n = c->nflat + c->ninstances + s->ncsgs;
     for (int k = 0; k < LC_SHAPE_KINDS; k++)
         if (shape_bounded((lc_shape_kind)k))
             n += s->shapes[k].n;
@@ -88,6 +88,10 @@ static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
             instance_bounds(s, i, it->lo, it->hi);
             it++;
         }
+    for (size_t i = 0; i < s->ncsgs; i++, it++) {  /* each CSG object one primitive */
+        it->id = PRIM_ID(PRIM_CSG, i);
+        csg_bounds(s->csgs[i], it->lo, it->hi);
+    }
     return bvh_build(&c->bvh, items, n, seen, err);
 }
 
@@ -158,6 +162,8 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
         for (uint32_t k = 0; k < s->meshes[i].npalette; k++)
             used[s->meshes[i].palette[k]] = 1;
     }
+    for (size_t i = 0; i < s->ncsgs; i++)
+        csg_materials(s->csgs[i], used);
     census lit = {0, 0}, spec = {0, 0}, refl = {0, 0}, gloss = {0, 0}, amb = {0, 0},
            inuse = {0, 0}, refr = {0, 0}, filt = {0, 0}, tex = {0, 0};
     for (size_t i = 0; i < s->nmaterials; i++) {

@@ -81,6 +81,7 @@ int luaopen_lancer_core(lua_State *L)
     scene_objects_register(L);
     query_register(L);
     texture_register(L);
+    csg_lua_register(L);
     hook_register(L);
     lua_pushstring(L, LC_VERSION);
     lua_setfield(L, -2, "version");

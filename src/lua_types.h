@@ -19,6 +19,7 @@
 #define GROUP    "lancer.Group"
 #define ENTRY    "lancer.SceneObject"
 #define TEXTURE  "lancer.Texture"
+#define CSG      "lancer.CSG"
 
 typedef struct { lc_material m; } ud_material;   /* user value 1: its textures, by
                                                   ** field name, or nil */
@@ -36,13 +37,25 @@ typedef struct { lc_mesh *m; } ud_mesh;           /* user value 1: its material;
                                                   ** materials of its face slots, or nil */
 typedef struct { lc_transform t; } ud_transform;
 typedef struct { lc_transform t; } ud_group;      /* user value 1: its members, an array */
+typedef struct {
+    lc_csg_op    op;
+    int          cut_object;   /* differences: cut = 'object' */
+    int          moved;        /* t is not the identity */
+    lc_transform t;            /* placed by it, after its operands' own placings */
+    int          depth;        /* nesting levels of operations below, this one counted */
+    size_t       nodes;        /* the length of its description */
+} ud_csg;            /* user values: 1 its operands, an array; 2 its material or nil */
 
 /* A scene's user value is a table: [SC_CAMERA] its camera userdata,
 ** [SC_MATERIALS] a table from material userdata to the index the core gave
 ** it (so a material shared by a million spheres is stored once),
 ** [SC_DEFAULT] the index of the default material, [SC_MESHES] a table from
-** each mesh's core pointer (light userdata) to its userdata, for listing. */
-enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4, SC_TEXTURES = 5 };
+** each mesh's core pointer (light userdata) to its userdata, for listing,
+** [SC_TEXTURES] a table from texture userdata to the scene's index for it,
+** [SC_CSGS] a table from each CSG object's id (the core's) to the value
+** added, for scene:remove(csg). */
+enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4, SC_TEXTURES = 5,
+       SC_CSGS = 6 };
 
 /* A metatable `name` with the metamethods `meta` and, when given, methods
 ** that its __index looks up under "methods". */
@@ -66,6 +79,7 @@ void explain_register(lua_State *L);   /* lua_explain.c, with ray trees */
 void image_register(lua_State *L);     /* lua_image.c */
 void motion_register(lua_State *L);    /* lua_motion.c: transforms and groups */
 void scene_objects_register(lua_State *L); /* lua_scene_objects.c: objects, remove */
+void csg_lua_register(lua_State *L);   /* lua_csg.c: union, intersection, ... */
 void hook_register(lua_State *L);      /* lua_hook.c: set_host_hook */
 void query_register(lua_State *L);     /* lua_query.c: intersect, occluded */
 void texture_register(lua_State *L);   /* lua_texture.c: checker, ..., mix */
@@ -118,5 +132,22 @@ void objects_push_material(lua_State *L, const lc_material *m);
 /* An image texture of the PNG at path, sRGB-decoded; raises naming `what`
 ** (lua_texture.c). */
 void texture_push_png(lua_State *L, const char *path, const char *what);
+/* lua_motion.c: pushes a group of the members at stack index members,
+** placed by t. */
+void motion_push_group(lua_State *L, const lc_transform *t, int members);
+
+/* lua_csg.c: the CSG object at idx moved by t, pushed. */
+int    csg_lua_moved(lua_State *L, int idx, const lc_transform *t);
+/* Pushes the flat description of the CSG object at idx, placed by xf (or
+** not: NULL), as three values: a userdata holding its lc_csg_node array
+** (meshes not filled in, materials 0), a table from each leaf's node
+** number (from 1) to its material userdata (absent: the default), and one
+** from each mesh leaf's to its mesh userdata. Returns the node count;
+** raises at arg when a leaf cannot be placed by xf. */
+size_t csg_lua_describe(lua_State *L, int idx, const lc_transform *xf, int arg);
+/* Pushes the CSG object a scene lists, nodes[0, n); mats: the scene's
+** materials by index (lua_scene_objects.c), meshes: its SC_MESHES. */
+void   csg_lua_push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, int mats,
+                           int meshes);
 
 #endif

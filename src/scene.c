@@ -48,6 +48,9 @@ void lc_scene_free(lc_scene *s)
         mem_free(s->meshes[i].xf);
         mem_free(s->meshes[i].palette);
     }
+    for (size_t i = 0; i < s->ncsgs; i++)
+        csg_free(s->csgs[i]);
+    mem_free(s->csgs);
     mem_free(s->light_ids);
     mem_free(s->materials);
     lc_textures_free(s->textures);
@@ -289,6 +292,31 @@ int lc_scene_add_mesh_materials(lc_scene *s, lc_mesh *m, const lc_transform *t,
     return add_mesh(s, m, xf, materials[0], palette, (uint32_t)n, err);
 }
 
+int lc_scene_add_csg(lc_scene *s, const lc_csg_node *nodes, size_t n, lc_error *err)
+{
+    if (lc_csg_check(nodes, n, err))
+        return -1;
+    for (size_t i = 0; i < n; i++)
+        if ((nodes[i].op == LC_CSG_SHAPE || nodes[i].op == LC_CSG_MESH) &&
+            !check_material(s, nodes[i].material, err)) {
+            if (n > 1)
+                error_prefix(err, "node %zu: ", i);
+            return -1;
+        }
+    if (s->ncsgs >= PRIM_MAX || !GROW(s, csgs)) {
+        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a CSG object");
+        return -1;
+    }
+    csg_tree *t = csg_build(nodes, n, s->csgs, s->ncsgs, err);
+    if (!t)
+        return -1;
+    t->id = s->next_id;
+    s->csgs[s->ncsgs++] = t;
+    s->c.valid = 0;
+    s->nshapes++;
+    return s->next_id++;
+}
+
 int lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err)
 {
     if (lc_point_light_check(l, err))
@@ -401,6 +429,29 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
             st = LC_EARG;
         lc_mesh_free(m);
         if (st != LC_OK)
+            goto fail;
+    }
+    for (size_t i = 0; i < s->ncsgs; i++) {
+        const csg_tree *tr = s->csgs[i];
+        lc_csg_node *d = mem_alloc(tr->n * sizeof *d);
+        if (!d) {
+            error_fail(err, LC_ENOMEM, NULL, "out of memory copying a CSG object");
+            goto fail;
+        }
+        memcpy(d, tr->desc, tr->n * sizeof *d);
+        for (size_t k = 0; k < tr->n; k++) {
+            if (d[k].op == LC_CSG_SHAPE) {
+                shape_scale(&d[k].shape, scale, t);
+            } else if (d[k].op == LC_CSG_MESH) {
+                lc_transform st = lc_transform_scale(v3(scale, scale, scale));
+                lc_transform mv = lc_transform_translate(t);
+                st = lc_transform_compose(&mv, &st);
+                d[k].transform = lc_transform_compose(&st, &d[k].transform);
+            }
+        }
+        int id = lc_scene_add_csg(c, d, tr->n, err);
+        mem_free(d);
+        if (id < 0)
             goto fail;
     }
     for (size_t i = 0; i < s->nlights; i++) {

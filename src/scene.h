@@ -6,6 +6,7 @@
 #include <signal.h>
 #include "affine.h"
 #include "bvh.h"
+#include "csg.h"
 #include "mesh.h"
 #include "shape.h"
 
@@ -82,6 +83,7 @@ struct lc_scene {
     lc_textures *textures;         /* NULL until the first lc_scene_add_texture */
     shape_list  shapes[LC_SHAPE_KINDS];   /* by kind, each sorted by id */
     SCENE_ARRAY(mesh_prim, meshes);
+    SCENE_ARRAY(csg_tree *, csgs); /* CSG objects, sorted by id */
     SCENE_ARRAY(emitter, emitters);
     SCENE_ARRAY(lc_point_light, lights);
     compiled    c;

@@ -49,6 +49,26 @@ static void mesh_object(lc_object *o, const mesh_prim *p)
     o->transform = p->xf ? p->xf->xf : lc_transform_identity();
 }
 
+static void csg_object(lc_object *o, const csg_tree *t)
+{
+    o->kind = LC_OBJECT_CSG;
+    o->id = t->id;
+    o->material = -1;
+    o->transform = lc_transform_identity();
+    o->csg = t->desc;
+    o->csg_nodes = t->n;
+}
+
+static long find_csg(const lc_scene *s, int id)
+{
+    size_t lo = 0, hi = s->ncsgs;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (s->csgs[mid]->id < id) lo = mid + 1; else hi = mid;
+    }
+    return lo < s->ncsgs && s->csgs[lo]->id == id ? (long)lo : -1;
+}
+
 static void light_object(lc_object *o, const lc_scene *s, size_t i)
 {
     o->kind = LC_OBJECT_LIGHT;
@@ -57,18 +77,20 @@ static void light_object(lc_object *o, const lc_scene *s, size_t i)
     o->light = s->lights[i];
 }
 
-/* The sorted lists merged by id: one per shape kind, then meshes, lights. */
-enum { LIST_MESHES = LC_SHAPE_KINDS, LIST_LIGHTS, LISTS };
+/* The sorted lists merged by id: one per shape kind, then meshes, CSG
+** objects, lights. */
+enum { LIST_MESHES = LC_SHAPE_KINDS, LIST_CSGS, LIST_LIGHTS, LISTS };
 
 static size_t list_len(const lc_scene *s, int j)
 {
-    return j < LC_SHAPE_KINDS ? s->shapes[j].n : j == LIST_MESHES ? s->nmeshes : s->nlights;
+    return j < LC_SHAPE_KINDS ? s->shapes[j].n : j == LIST_MESHES ? s->nmeshes :
+           j == LIST_CSGS ? s->ncsgs : s->nlights;
 }
 
 static int list_id(const lc_scene *s, int j, size_t i)
 {
-    return j < LC_SHAPE_KINDS ? s->shapes[j].id[i] : j == LIST_MESHES ? s->meshes[i].id
-                                                                      : s->light_ids[i];
+    return j < LC_SHAPE_KINDS ? s->shapes[j].id[i] : j == LIST_MESHES ? s->meshes[i].id :
+           j == LIST_CSGS ? s->csgs[i]->id : s->light_ids[i];
 }
 
 size_t lc_scene_objects(const lc_scene *s, lc_object *out, size_t n)
@@ -93,6 +115,8 @@ size_t lc_scene_objects(const lc_scene *s, lc_object *out, size_t n)
             shape_object(o, s, (lc_shape_kind)best, i);
         else if (best == LIST_MESHES)
             mesh_object(o, &s->meshes[i]);
+        else if (best == LIST_CSGS)
+            csg_object(o, s->csgs[i]);
         else
             light_object(o, s, i);
     }
@@ -111,6 +135,8 @@ lc_status lc_scene_object(const lc_scene *s, int id, lc_object *out, lc_error *e
         }
     if ((i = find_mesh(s, id)) >= 0)
         return mesh_object(out, &s->meshes[i]), error_ok(err), LC_OK;
+    if ((i = find_csg(s, id)) >= 0)
+        return csg_object(out, s->csgs[i]), error_ok(err), LC_OK;
     if ((i = find_id(s->light_ids, s->nlights, id)) >= 0)
         return light_object(out, s, (size_t)i), error_ok(err), LC_OK;
     return error_fail(err, LC_EARG, "id", "no object %d in this scene (%s)", id,
@@ -165,6 +191,12 @@ lc_status lc_scene_remove(lc_scene *s, int id, lc_error *err)
         memmove(s->light_ids + i, s->light_ids + i + 1,
                 (s->nlights - (size_t)i - 1) * sizeof *s->light_ids);
         cut(s->lights, &s->nlights, (size_t)i, sizeof *s->lights);
+        break;
+    case LC_OBJECT_CSG:
+        i = find_csg(s, id);
+        csg_free(s->csgs[i]);
+        cut(s->csgs, &s->ncsgs, (size_t)i, sizeof *s->csgs);
+        s->nshapes--;
         break;
     case LC_OBJECT_MESH:
         i = find_mesh(s, id);

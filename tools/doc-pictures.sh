@@ -34,4 +34,5 @@ frame 07_wave 10
 still 08_moving 107
 still 09_soft_glossy_lens 90
 still 10_glass 100
+still 11_csg 107
 ls -l "$out"
