@@ -357,6 +357,7 @@ static void push_mtl_material(lua_State *L, const lc_mtl *t, int textures, const
             continue;
         char what[LC_MTL_PATH + 300];
         snprintf(what, sizeof what, "'%s': material '%s': %s", obj, t->name, kind[k]);
+        lancer_check_file(L, 1, files[k], 0);
         FILE *fp = fopen(files[k], "rb");
         if (!fp) {                           /* not there: noted, the colour stays */
             lua_pushfstring(L, "%s '%s' cannot be opened: %s", what, files[k],
@@ -383,6 +384,8 @@ static const lc_mtl *push_libraries(lua_State *L, const lc_mesh *m, const char *
     size_t count[64];
     if (nlibs > 64)
         luaL_error(L, "'%s': more than 64 mtllib files", path);
+    for (size_t l = 0; l < nlibs; l++)      /* all first: a refusal raises, and leaks */
+        lancer_check_file(L, 1, lc_mesh_mtllib(m, l), 0);
     for (size_t l = 0; l < nlibs; l++) {
         lc_error err;
         if (lc_mtl_load(lc_mesh_mtllib(m, l), &part[l], &count[l], &err)) {

@@ -74,6 +74,7 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
             lua_getfield(L, 1, "path");
             if (!lua_isstring(L, -1))
                 return lf_error(L, 1, "image", "an image or a path to a PNG expected");
+            lancer_check_file(L, 1, lua_tostring(L, -1), 0);
             lc_error err;
             lc_image *img = lc_image_load_png(lua_tostring(L, -1), LC_ENCODE_SRGB, &err);
             if (!img)

@@ -68,6 +68,15 @@ void lancer_class(lua_State *L, const char *name, const luaL_Reg *meta,
 ** pointer in use after it. */
 void lancer_charge(lua_State *L);
 
+/* lua_lancer.c: files the binding opens itself, beyond its arguments (an
+** OBJ's .mtl libraries, their texture maps, an image texture's path), are
+** first shown to the host's gate, a function at registry[LANCER_FILE_GATE]
+** called with (path, writing) and returning true, or false and why (the
+** sandbox sets one); raises at argument arg when it says no. No gate: all
+** may be read. */
+#define LANCER_FILE_GATE "lancer.file_gate"
+void lancer_check_file(lua_State *L, int arg, const char *path, int writing);
+
 /* Each file registers its metatables and sets its constructors in the module
 ** table at the top of the stack. */
 void objects_register(lua_State *L);   /* lua_objects.c: materials, lights, cameras */
