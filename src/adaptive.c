@@ -28,6 +28,9 @@ lc_status adaptive_init(adaptive *a, const lc_render_options *o, int width, int 
     a->target = (uint32_t)o->min_samples + (o->min_samples & 1);
     if (a->target > a->max)
         a->target = a->max;
+    a->first = a->target;
+    if (o->progressive)
+        a->target = 1;          /* 1, 2, 4, ... up to first, every pixel active */
     return LC_OK;
 }
 
@@ -68,8 +71,27 @@ uint64_t adaptive_converged(const adaptive *a)
     return c;
 }
 
+int adaptive_passes(const adaptive *a)
+{
+    adaptive b = *a;
+    int n = 1;
+    while (b.target < b.first || b.target < b.max) {   /* as adaptive_next steps it */
+        b.target = b.target < b.first ? (b.target > b.first / 2 ? b.first : 2 * b.target)
+                 : b.target > b.max / 2 ? b.max : 2 * b.target;
+        n++;
+    }
+    return n;
+}
+
 int adaptive_next(adaptive *a)
 {
+    if (a->target < a->first) {
+        /* A progressive render's first passes: they stop nowhere, so that
+        ** at `first` every pixel holds the sums a plain render's first pass
+        ** leaves, and the passes after it are the plain render's. */
+        a->target = a->target > a->first / 2 ? a->first : 2 * a->target;
+        return 1;
+    }
     if (a->target >= a->max)
         return 0;
     int w = a->width, h = a->height, left = 0;

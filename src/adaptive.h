@@ -16,6 +16,9 @@ typedef struct {
     uint32_t *n;          /* samples taken per pixel */
     unsigned char *active;
     uint32_t  target;     /* this pass: active pixels sample up to here */
+    uint32_t  first;      /* the first pass that checks the error: min_samples,
+                          ** even; a progressive render's passes before it
+                          ** double from 1 with every pixel active */
     uint32_t  max;        /* the render's samples */
     double    noise;
     int       pass;
@@ -28,6 +31,8 @@ void      adaptive_free(adaptive *a);
 /* After a pass: marks the pixels to go on and sets the next target; 0 when
 ** none is left. */
 int       adaptive_next(adaptive *a);
+/* The passes a render takes when no pixel converges early: the first included. */
+int       adaptive_passes(const adaptive *a);
 /* The estimated relative error of pixel p (Dammertz et al. 2010, as Cycles). */
 double    adaptive_error(const adaptive *a, size_t p);
 /* Pixels whose estimated error is under the target now. */

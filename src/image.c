@@ -2,6 +2,7 @@
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
+#include <string.h>
 #include "error.h"
 #include "image.h"
 #include "mem.h"
@@ -36,6 +37,24 @@ lc_image *lc_image_new(int width, int height, lc_error *err)
     img->win.frame_height = height;
     error_ok(err);
     return img;
+}
+
+lc_image *lc_image_copy(const lc_image *img, lc_error *err)
+{
+    lc_image *c = lc_image_new(img->width, img->height, err);
+    if (!c)
+        return NULL;
+    size_t n = (size_t)img->width * (size_t)img->height;
+    memcpy(c->px, img->px, 3 * n * sizeof *c->px);
+    c->win = img->win;
+    if (img->alpha) {
+        if (lc_image_add_alpha(c, err)) {
+            lc_image_free(c);
+            return NULL;
+        }
+        memcpy(c->alpha, img->alpha, n * sizeof *c->alpha);
+    }
+    return c;
 }
 
 void lc_image_free(lc_image *img)

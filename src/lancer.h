@@ -482,6 +482,17 @@ const char *lc_need_name(unsigned need);                /* "shadow", ... */
 ** share of tiles done; a nonzero return stops the render with LC_ECANCEL. */
 typedef int (*lc_progress_fn)(void *ud, double done);
 
+/* Called after each pass of a progressive render (lc_render_options'
+** progressive), on the thread that called lc_scene_render with no worker
+** running: img is the render's own image as it stands (every pixel the mean
+** of the samples it took so far: read or copy it, do not keep or free it),
+** pass counts from 1 and st holds the statistics so far. A nonzero return
+** stops the render there: lc_scene_render returns that image, LC_OK, with
+** st->stopped set when passes were left. */
+struct lc_stats;
+typedef int (*lc_pass_fn)(void *ud, const lc_image *img, int pass,
+                          const struct lc_stats *st);
+
 /* Stops the renders running now (building their BVH or tracing) with
 ** LC_ECANCEL, once tracing starts, within about 100 ms; renders started
 ** afterwards are not affected. Async-signal-safe: for a SIGINT handler. */
@@ -529,6 +540,15 @@ typedef struct {
                              ** the width x height frame, each exactly as in the whole
                              ** frame; the image is the region's size and knows where
                              ** it lies (lc_image_window). All 0: the whole frame */
+    int      progressive;    /* 1: trace in passes, each pixel taking 1, 2, 4, ... (then
+                             ** samples) camera samples in all, with noise > 0 1, 2, 4,
+                             ** ... up to min_samples, then adaptive sampling's passes;
+                             ** on_pass sees the image after each. The final image is
+                             ** the same, bit for bit, as without (camera sample s of
+                             ** N is the same sample); a pass is a lock-step of the
+                             ** whole image, so it costs a little more */
+    lc_pass_fn on_pass;      /* with progressive; may be NULL */
+    void    *on_pass_ud;
 } lc_render_options;
 
 #define LC_MAX_SAMPLES (1 << 20)      /* camera samples per pixel */
@@ -542,7 +562,7 @@ typedef struct {
 lc_render_options lc_render_options_default(void);
 lc_status lc_render_options_check(const lc_render_options *o, lc_error *err);
 
-typedef struct {
+typedef struct lc_stats {
     double   seconds;            /* compile + trace */
     double   compile_seconds;
     double   trace_seconds;
@@ -565,6 +585,10 @@ typedef struct {
     char     why[LC_NEEDS][160]; /* for each effect, why it is on or off */
     char     warning[160];       /* empty, or why the picture is likely not what was
                                  ** meant (no light at all; every pixel black) */
+    int      passes;             /* passes traced: 1, or a progressive or adaptive
+                                 ** render's count */
+    int      stopped;            /* 1: on_pass stopped the render after `passes`,
+                                 ** before its last pass */
 } lc_stats;
 
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
@@ -643,6 +667,7 @@ typedef enum { LC_ENCODE_SRGB, LC_ENCODE_LINEAR } lc_encoding;
 
 lc_image *lc_image_new(int width, int height, lc_error *err); /* black */
 void      lc_image_free(lc_image *img);                 /* NULL is a no-op */
+lc_image *lc_image_copy(const lc_image *img, lc_error *err); /* pixels, alpha, window */
 int       lc_image_width(const lc_image *img);
 int       lc_image_height(const lc_image *img);
 lc_color  lc_image_get(const lc_image *img, int x, int y);  /* 0-based, top-left */

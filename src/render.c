@@ -56,8 +56,11 @@ typedef struct {
     adaptive       *adaptive;   /* NULL: every pixel takes `samples` */
     int             x0, y0, x1, y1;   /* the pixels of the frame the image holds */
     int             ex0, ey0, ew, eh; /* those traced: the region and a margin */
-    uint32_t       *hits;       /* alpha with adaptive: camera rays that hit, per
-                                ** traced pixel, across passes */
+    uint32_t       *hits;       /* alpha with adaptive or progressive: camera rays
+                                ** that hit, per traced pixel, across passes */
+    double         *acc;        /* progressive, not adaptive: each traced pixel's sum
+                                ** of r, g, b over its samples [0, from) */
+    uint32_t        from, to;   /* ... and this pass adds samples [from, to) */
     double          base, share;   /* progress: this pass's start and part of all */
     int             random;     /* some dimension is sampled: pixels need their keys */
     sig_atomic_t    interrupts_seen;   /* lc_interrupt()'s count when the render began */
@@ -130,6 +133,33 @@ ALWAYS_INLINE void put(job *j, int x, int y, const double sum[3], uint32_t n, ui
         lc_image_set_alpha(j->img, x - j->x0, y - j->y0, (float)hits / (float)n);
 }
 
+/* A pass of a progressive render that is not adaptive: every pixel adds
+** samples [from, to) of its N to its sum, in the order a plain render adds
+** them, into the same double; so after the last pass each pixel holds the
+** plain render's sum, bit for bit, divided by the same N. Apart from the
+** plain loop below, which stays as it was (B1 measures it). */
+static void tile_pass(job *j, tracer *t, int x0, int y0, int x1, int y1)
+{
+    const lc_render_options *o = j->o;
+    uint32_t n = (uint32_t)o->samples;
+    int alpha = j->img->alpha != NULL;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            uint64_t key = (uint64_t)y * (uint64_t)o->width + (uint64_t)x;
+            size_t pixel = (size_t)(y - j->ey0) * j->ew + (size_t)(x - j->ex0);
+            if (j->random)
+                t->ps = sample_pixel(o->sampler, o->seed, o->frame, key);
+            double *sum = j->acc + 3 * pixel;
+            uint32_t *hits = alpha ? j->hits + pixel : NULL;
+            for (uint32_t s = j->from; s < j->to; s++) {
+                radiance c = camera_sample(j, t, x, y, s, n, hits);
+                sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
+            }
+            t->samples += j->to - j->from;
+            put(j, x, y, sum, j->to, hits ? *hits : 0);
+        }
+}
+
 static void render_tile(job *j, tracer *t, int tile)
 {
     const lc_render_options *o = j->o;
@@ -137,6 +167,10 @@ static void render_tile(job *j, tracer *t, int tile)
     int x0 = j->ex0 + (tile % j->tiles_x) * TILE, y0 = j->ey0 + (tile / j->tiles_x) * TILE;
     int x1 = x0 + TILE < j->ex0 + j->ew ? x0 + TILE : j->ex0 + j->ew;
     int y1 = y0 + TILE < j->ey0 + j->eh ? y0 + TILE : j->ey0 + j->eh;
+    if (j->acc) {
+        tile_pass(j, t, x0, y0, x1, y1);
+        return;
+    }
     uint32_t n = (uint32_t)o->samples;
     int alpha = j->img->alpha != NULL;
     for (int y = y0; y < y1; y++)
@@ -344,6 +378,44 @@ static void warn(const lc_scene *s, const lc_image *img, lc_stats *st)
              "intensities, and the colours)");
 }
 
+/* The statistics of the render so far, into st (its passes and stopped
+** kept): the workers' counts summed, the scene's figures, the times since
+** t0 (the start) and t1 (the end of the compile). */
+static void gather(const job *j, const worker *ws, int nt, int threads, double t0,
+                   double t1, lc_stats *st)
+{
+    const lc_scene *s = j->scene;
+    int passes = st->passes, stopped = st->stopped;
+    memset(st, 0, sizeof *st);
+    for (int i = 0; i < nt; i++) {
+        for (int k = 0; k < LC_RAY_KINDS; k++)
+            st->rays[k] += ws[i].t.rays[k];
+        st->self_hits += ws[i].t.self_hits;
+        st->samples += ws[i].t.samples;
+        st->prim_tests += ws[i].t.counts.prims;
+        st->node_tests += ws[i].t.counts.nodes;
+        st->csg_tests += ws[i].t.counts.csg;
+    }
+    if (j->adaptive)
+        st->converged = adaptive_converged(j->adaptive);
+    double t2 = clock_seconds();
+    st->compile_seconds = t1 - t0;
+    st->trace_seconds = t2 - t1;
+    st->seconds = t2 - t0;
+    st->needs = s->c.needs;
+    st->bvh_nodes = s->c.bvh.nnodes;
+    st->primitives = s->c.ntris;
+    for (int k = 0; k < LC_SHAPE_KINDS; k++)
+        st->primitives += s->shapes[k].n;
+    st->primitives += s->ncsgs;
+    st->degenerate = s->c.degenerate;
+    memcpy(st->why, s->c.why, sizeof st->why);
+    st->threads = threads;
+    st->passes = passes;
+    st->stopped = stopped;
+    warn(s, j->img, st);
+}
+
 static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats *st,
                                lc_error *err)
 {
@@ -383,12 +455,22 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
         lc_image_free(img);
         return NULL;
     }
-    if (o->alpha && o->noise > 0) {
+    if (o->alpha && (o->noise > 0 || o->progressive)) {
         j.hits = mem_calloc((size_t)j.ew * j.eh, sizeof *j.hits);
         if (!j.hits) {
             lc_image_free(img);
             error_fail(err, LC_ENOMEM, NULL, "out of memory for the alpha of %dx%d pixels",
                        j.ew, j.eh);
+            return NULL;
+        }
+    }
+    if (o->progressive && !(o->noise > 0)) {
+        j.acc = mem_calloc((size_t)j.ew * j.eh, 3 * sizeof *j.acc);
+        if (!j.acc) {
+            mem_free(j.hits);
+            lc_image_free(img);
+            error_fail(err, LC_ENOMEM, NULL, "out of memory for the sums of a progressive "
+                       "render of %dx%d pixels", j.ew, j.eh);
             return NULL;
         }
     }
@@ -415,6 +497,7 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
     if (!ws || (o->noise > 0 && adaptive_init(&ad, o, j.ew, j.eh, err))) {
         mem_free(ws);
         mem_free(j.hits);
+        mem_free(j.acc);
         lc_image_free(img);
         return NULL;
     }
@@ -422,53 +505,51 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
         tracer_init(&ws[i].t, s, o);
     pthread_mutex_init(&j.lock, NULL);
     pthread_cond_init(&j.tile_done, NULL);
-    int threads;
-    j.share = 1;
-    if (o->noise > 0) {
-        /* Passes to min_samples, then doubling: progress by samples' worth. */
+    if (o->noise > 0)
         j.adaptive = &ad;
-        double total = log2((double)ad.max / ad.target) + 1;
-        do {
-            j.share = 1 / total;
-            threads = run_pass(&j, ws, nt);
-            j.base += j.share;
-        } while (!j.cancel && adaptive_next(&ad));
-    } else {
-        threads = run_pass(&j, ws, nt);
-    }
-    double t2 = clock_seconds();
-
+    uint32_t max = (uint32_t)o->samples;
+    int npasses = j.adaptive ? adaptive_passes(&ad) : 1, threads = 0;
     lc_stats sum;
     memset(&sum, 0, sizeof sum);
-    for (int i = 0; i < nt; i++) {
-        for (int k = 0; k < LC_RAY_KINDS; k++)
-            sum.rays[k] += ws[i].t.rays[k];
-        sum.self_hits += ws[i].t.self_hits;
-        sum.samples += ws[i].t.samples;
-        sum.prim_tests += ws[i].t.counts.prims;
-        sum.node_tests += ws[i].t.counts.nodes;
-        sum.csg_tests += ws[i].t.counts.csg;
+    j.share = 1;
+    for (;;) {
+        if (j.acc) {
+            /* 1, 2, 4, ... samples in all, then max: progress by samples' worth. */
+            j.from = j.to;
+            j.to = j.to == 0 ? 1 : j.to > max / 2 ? max : 2 * j.to;
+            j.base = (double)j.from / max;
+            j.share = (double)(j.to - j.from) / max;
+        } else if (j.adaptive) {
+            j.share = 1.0 / npasses;             /* adaptive: by passes */
+        }
+        threads = run_pass(&j, ws, nt);
+        sum.passes++;
+        if (j.cancel)
+            break;
+        /* adaptive_next only marks the pixels that go on: the image stays. */
+        int more = j.adaptive ? adaptive_next(&ad) : j.acc && j.to < max;
+        if (o->on_pass) {
+            gather(&j, ws, nt, threads, t0, t1, &sum);
+            if (o->on_pass(o->on_pass_ud, img, sum.passes, &sum)) {
+                sum.stopped = more;              /* after the last pass: it finished */
+                break;
+            }
+            if (interrupt_count() != j.interrupts_seen) {
+                j.cancel = 1;                    /* a Ctrl-C during the callback */
+                break;
+            }
+        }
+        if (!more)
+            break;
+        j.base += j.adaptive ? j.share : 0;
     }
-    if (j.adaptive) {
-        sum.converged = adaptive_converged(&ad);
+    gather(&j, ws, nt, threads, t0, t1, &sum);
+    if (j.adaptive)
         adaptive_free(&ad);
-    }
-    sum.compile_seconds = t1 - t0;
-    sum.trace_seconds = t2 - t1;
-    sum.seconds = t2 - t0;
-    sum.needs = s->c.needs;
-    sum.bvh_nodes = s->c.bvh.nnodes;
-    sum.primitives = s->c.ntris;
-    for (int k = 0; k < LC_SHAPE_KINDS; k++)
-        sum.primitives += s->shapes[k].n;
-    sum.primitives += s->ncsgs;
-    sum.degenerate = s->c.degenerate;
-    memcpy(sum.why, s->c.why, sizeof sum.why);
-    sum.threads = threads;
-    warn(s, img, &sum);
     int cancelled = j.cancel;
     mem_free(ws);
     mem_free(j.hits);
+    mem_free(j.acc);
     pthread_mutex_destroy(&j.lock);
     pthread_cond_destroy(&j.tile_done);
     if (st)

@@ -264,6 +264,12 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
     if (o->threads < 0 || o->threads > LC_MAX_THREADS)
         return error_fail(err, LC_EARG, "threads", "must be in [0, %d], got %d", LC_MAX_THREADS,
                        o->threads);
+    if (o->progressive != 0 && o->progressive != 1)
+        return error_fail(err, LC_EARG, "progressive", "must be 0 or 1, got %d",
+                          o->progressive);
+    if (o->on_pass && !o->progressive)
+        return error_fail(err, LC_EARG, "on_pass", "is called after each pass of a "
+                          "progressive render: set progressive = 1 too");
     const int *r = o->region;
     if ((r[0] | r[1] | r[2] | r[3]) != 0 &&
         !(r[0] >= 0 && r[0] < r[2] && r[2] <= o->width && r[1] >= 0 && r[1] < r[3] &&
