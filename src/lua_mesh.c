@@ -501,6 +501,7 @@ static int w_load_obj(lua_State *L)
 static int w_mesh_add_vertices(lua_State *L)
 {
     check_mesh(L, 1);
+    render_check_idle(L, "add_vertices");
     read_points(L, 2, 2, 1, POINTS, "vertices");
     lua_pushinteger(L, (lua_Integer)lc_mesh_vertex_count(check_mesh(L, 1)));
     lancer_charge(L);
@@ -510,6 +511,7 @@ static int w_mesh_add_vertices(lua_State *L)
 static int w_mesh_add_normals(lua_State *L)
 {
     check_mesh(L, 1);
+    render_check_idle(L, "add_normals");
     read_points(L, 2, 2, 1, NORMALS, "normals");
     lancer_charge(L);
     return 0;
@@ -518,6 +520,7 @@ static int w_mesh_add_normals(lua_State *L)
 static int w_mesh_add_uvs(lua_State *L)
 {
     check_mesh(L, 1);
+    render_check_idle(L, "add_uvs");
     read_points(L, 2, 2, 1, UVS, "uvs");
     lancer_charge(L);
     return 0;
@@ -526,6 +529,7 @@ static int w_mesh_add_uvs(lua_State *L)
 static int w_mesh_add_faces(lua_State *L)
 {
     check_mesh(L, 1);
+    render_check_idle(L, "add_faces");
     read_faces(L, 2, 2, 1, "faces", 0, 0);
     lua_pushinteger(L, (lua_Integer)lc_mesh_face_count(check_mesh(L, 1)));
     lancer_charge(L);

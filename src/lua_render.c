@@ -63,6 +63,10 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
         lua_pushstring(L, st->warning);
         lua_setfield(L, -2, "warning");
     }
+    lua_pushinteger(L, st->passes);
+    lua_setfield(L, -2, "passes");
+    lua_pushboolean(L, st->stopped);
+    lua_setfield(L, -2, "stopped");
 }
 
 static const char *const sampler_opts[] = {"sobol", "jitter", "random", NULL};
@@ -129,13 +133,40 @@ void render_read_options(lua_State *L, int arg, lc_render_options *o)
     lua_pop(L, 1);
 }
 
+/* progress = true, false or 'lines' (absent: automatic). */
+static int progress_mode(lua_State *L, int arg)
+{
+    int mode = PROGRESS_AUTO;
+    int t = lua_getfield(L, arg, "progress");
+    if (t == LUA_TBOOLEAN)
+        mode = lua_toboolean(L, -1) ? PROGRESS_BAR : PROGRESS_NONE;
+    else if (t == LUA_TSTRING && strcmp(lua_tostring(L, -1), "lines") == 0)
+        mode = PROGRESS_LINES;
+    else if (t != LUA_TNIL)
+        lf_error(L, arg, "progress", "true, false or 'lines' expected, got %s",
+                 t == LUA_TSTRING ? lua_pushfstring(L, "'%s'", lua_tostring(L, -1))
+                                  : luaL_typename(L, -1));
+    lua_pop(L, 1);
+    return mode;
+}
+
+/* Stands for a Lua on_pass in the options the core checks; the render
+** replaces it with pass_called. */
+static int pass_placeholder(void *ud, const lc_image *img, int pass,
+                            const struct lc_stats *st)
+{
+    (void)ud, (void)img, (void)pass, (void)st;
+    return 0;
+}
+
 /* Checks render's arguments: the scene at 1, the options at 2 (a table
-** afterwards); the options in *o and whether to draw progress in *show.
+** afterwards); the options in *o and what progress to show in *show.
 ** Reading the options may run a script's metamethods: render_work checks
 ** the scene again. */
 static void render_args(lua_State *L, lc_render_options *o, int *show, int plain)
 {
-    static const char *const known[] = {RENDER_OPTIONS, "progress", NULL};
+    static const char *const known[] = {RENDER_OPTIONS, "progress", "progressive",
+                                        "on_pass", NULL};
     scene_check(L, 1);
     lua_settop(L, 2);
     if (lua_isnil(L, 2)) {
@@ -144,19 +175,131 @@ static void render_args(lua_State *L, lc_render_options *o, int *show, int plain
     }
     lf_open(L, 2, known);
     render_read_options(L, 2, o);
-    *show = lf_present(L, 2, "progress") ? lf_boolean(L, 2, "progress", 0) : -1;
+    *show = progress_mode(L, 2);
+    o->progressive = lf_boolean(L, 2, "progressive", 0);
+    int t = lua_getfield(L, 2, "on_pass");
+    if (t != LUA_TNIL && t != LUA_TFUNCTION)
+        lf_error(L, 2, "on_pass", "function expected, got %s", luaL_typename(L, -1));
+    lua_pop(L, 1);
+    if (t == LUA_TFUNCTION && !o->progressive)
+        lf_error(L, 2, "on_pass", "is called after each pass of a progressive render: "
+                 "set progressive = true too");
+    o->on_pass = t == LUA_TFUNCTION ? pass_placeholder : NULL;
     lc_error err;
     if (lc_render_options_check(o, &err))
         hook_raise(L, plain, 2, &err);
+}
+
+/* Renders whose on_pass may run Lua code now, in this state. */
+static const char passing_key = 'p';
+
+static int passing(lua_State *L)
+{
+    lua_rawgetp(L, LUA_REGISTRYINDEX, &passing_key);
+    int n = (int)lua_tointeger(L, -1);
+    lua_pop(L, 1);
+    return n;
+}
+
+static void set_passing(lua_State *L, int n)
+{
+    lua_pushinteger(L, n);
+    lua_rawsetp(L, LUA_REGISTRYINDEX, &passing_key);
+}
+
+void render_check_idle(lua_State *L, const char *what)
+{
+    if (passing(L) > 0)
+        luaL_error(L, "%s: no mesh may grow while a render's on_pass runs (a scene "
+                   "rendering may hold it)", what);
+}
+
+/* What a render's on_pass calls need, on render_work's stack. */
+typedef struct {
+    lua_State *L;
+    int        fn;          /* stack index of the script's on_pass */
+    int        result;      /* stack index of its error, or of the bad value it returned */
+    int        failed;      /* 1: it raised; 2: it returned something else than nil,
+                            ** true or false */
+    double     lua_seconds;
+} pass_ctx;
+
+/* lua_pcall'd by pass_called, so that nothing raises through the core:
+** on_pass(copy of the image, pass, stats). Returns 0 to go on, 1 to stop,
+** or 2 and the value returned, when it is no boolean nor nil. */
+static int pass_call(lua_State *L)
+{
+    const lc_image *img = lua_touserdata(L, 2);
+    const lc_stats *st = lua_touserdata(L, 4);
+    double lua_seconds = lua_tonumber(L, 5);
+    lua_pushvalue(L, 1);
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the copy */
+    ui->img = NULL;
+    luaL_setmetatable(L, IMAGE);
+    lc_error err;
+    ui->img = lc_image_copy(img, &err);
+    if (!ui->img)
+        return luaL_error(L, "on_pass: %s", err.msg);
+    lua_pushvalue(L, 3);
+    push_stats(L, st, lua_seconds);
+    lancer_charge(L);
+    lua_call(L, 3, 1);
+    if (lua_isnil(L, -1) || lua_isboolean(L, -1)) {
+        lua_pushinteger(L, lua_isboolean(L, -1) && !lua_toboolean(L, -1));
+        return 1;
+    }
+    lua_pushinteger(L, 2);
+    lua_insert(L, -2);
+    return 2;
+}
+
+/* The core's lc_pass_fn: on_pass, protected. What it raised or returned
+** wrong stops the render and waits at ctx->result for render_work. */
+static int pass_called(void *ud, const lc_image *img, int pass, const struct lc_stats *st)
+{
+    pass_ctx *c = ud;
+    lua_State *L = c->L;
+    lua_pushcfunction(L, pass_call);
+    lua_pushvalue(L, c->fn);
+    lua_pushlightuserdata(L, (void *)img);
+    lua_pushinteger(L, pass);
+    lua_pushlightuserdata(L, (void *)st);
+    lua_pushnumber(L, c->lua_seconds);
+    if (lua_pcall(L, 5, 2, 0) != LUA_OK) {
+        lua_replace(L, c->result);
+        c->failed = 1;
+        return 1;
+    }
+    int r = (int)lua_tointeger(L, -2);
+    if (r == 2) {
+        lua_pushvalue(L, -1);
+        lua_replace(L, c->result);
+        c->failed = 2;
+    }
+    lua_pop(L, 2);
+    return r != 0;
 }
 
 /* Renders the scene at 1: pushes the image and the statistics. */
 static int render_work(lua_State *L, lc_render_options *o, int show, int plain)
 {
     ud_scene *u = scene_check(L, 1);
+    pass_ctx pc = {L, 0, 0, 0, 0};
+    if (o->on_pass) {
+        luaL_checkstack(L, 12, "render's on_pass");
+        lua_getfield(L, 2, "on_pass");            /* checked by render_args */
+        pc.fn = lua_gettop(L);
+        if (lua_type(L, pc.fn) != LUA_TFUNCTION)  /* changed by a metamethod since */
+            return hook_fail(L, plain, 2, "field 'on_pass': function expected");
+        lua_pushnil(L);
+        pc.result = lua_gettop(L);
+        o->on_pass = pass_called;
+        o->on_pass_ud = &pc;
+    }
     ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
     ui->img = NULL;
     luaL_setmetatable(L, IMAGE);
+    int image = lua_gettop(L);
     lc_stats st;
     lc_error err;
     progress_bar bar;
@@ -164,16 +307,37 @@ static int render_work(lua_State *L, lc_render_options *o, int show, int plain)
     o->progress = progress_bar_update;
     o->progress_ud = &bar;
     double lua_seconds = clock_seconds() - u->mark;
+    pc.lua_seconds = lua_seconds;
     /* Fetched after the allocations above, which may run finalizers. */
-    ui->img = lc_scene_render(scene_at(L, 1), o, &st, &err);
+    lc_scene *s = scene_at(L, 1);
+    if (o->on_pass) {
+        u->rendering = 1;
+        set_passing(L, passing(L) + 1);
+    }
+    ui->img = lc_scene_render(s, o, &st, &err);
+    if (o->on_pass) {
+        u->rendering = 0;
+        set_passing(L, passing(L) - 1);
+    }
     u->mark = clock_seconds();
-    progress_bar_end(&bar);
+    progress_bar_end(&bar, ui->img != NULL && !st.stopped);
+    if (pc.failed) {
+        lc_image_free(ui->img);
+        ui->img = NULL;
+        if (pc.failed == 2)
+            return hook_fail(L, plain, 2, lua_pushfstring(L, "field 'on_pass': returned "
+                             "%s; nil, true or false expected (false stops the render)",
+                             luaL_typename(L, pc.result)));
+        lua_pushvalue(L, pc.result);
+        return lua_error(L);                      /* as the script's on_pass raised it */
+    }
     if (!ui->img) {
         if (strcmp(err.field, "camera") == 0)
             return hook_fail(L, plain, 0, "render: the scene has no camera (set "
                              "scene.camera = lancer.camera{...})");
         return hook_raise(L, plain, 2, &err);
     }
+    lua_settop(L, image);
     lancer_charge(L);
     push_stats(L, &st, lua_seconds);
     return 2;

@@ -21,7 +21,11 @@ ud_scene *scene_check(lua_State *L, int idx)
 
 lc_scene *scene_at(lua_State *L, int idx)
 {
-    return scene_check(L, idx)->s;
+    ud_scene *u = scene_check(L, idx);
+    if (u->rendering)            /* the core holds its lock: it would wait for itself */
+        luaL_argerror(L, idx, "lancer.Scene is rendering: its render's on_pass cannot "
+                      "change, render or query it");
+    return u->s;
 }
 
 static void set_camera(lua_State *L, int sidx, int cidx, int arg, const char *field)
@@ -63,6 +67,7 @@ static int w_scene(lua_State *L)
 
     ud_scene *u = lua_newuserdatauv(L, sizeof *u, 1);   /* before the core object */
     u->s = NULL;
+    u->rendering = 0;
     luaL_setmetatable(L, SCENE);
     int sidx = lua_gettop(L);
     lua_createtable(L, 5, 0);
@@ -92,6 +97,9 @@ static int w_scene(lua_State *L)
 static int w_scene_free(lua_State *L)              /* __gc and __close */
 {
     ud_scene *u = luaL_checkudata(L, 1, SCENE);
+    if (u->rendering)            /* not __gc: the render holds it on its stack */
+        return luaL_error(L, "lancer.Scene is rendering: its render's on_pass cannot "
+                          "close it");
     lc_scene_free(u->s);
     u->s = NULL;                                    /* safe to call twice */
     return 0;
@@ -501,6 +509,7 @@ static int w_scene_transformed(lua_State *L)
         return luaL_argerror(L, 3, why);
     ud_scene *c = lua_newuserdatauv(L, sizeof *c, 1);      /* before the copy */
     c->s = NULL;
+    c->rendering = 0;
     c->mark = clock_seconds();
     luaL_setmetatable(L, SCENE);
     int ci = lua_gettop(L);

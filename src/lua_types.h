@@ -31,6 +31,8 @@ typedef struct {
     lc_scene *s;
     double    mark;     /* when the script last handed control back: creation or
                         ** the end of a render; what follows is scene building */
+    int       rendering;  /* a render of it runs Lua code (its on_pass): the core
+                        ** scene is locked and in use, scene_at refuses it */
 } ud_scene;                                       /* user value 1: see SC_CAMERA */
 typedef struct { lc_image *img; } ud_image;
 typedef struct { lc_mesh *m; } ud_mesh;           /* user value 1: its material; 2: the
@@ -106,6 +108,10 @@ ud_scene *scene_check(lua_State *L, int idx);
 ** fetches a core pointer after the last such call, right before the lc_
 ** call that uses it, and never keeps one across such a call. */
 lc_scene *scene_at(lua_State *L, int idx);
+
+/* lua_render.c: raises, naming `what`, while a render's on_pass runs: a
+** mesh that grows then would move under the scene rendering it. */
+void render_check_idle(lua_State *L, const char *what);
 
 /* lua_render.c: the options render and explain share, from the named-field
 ** table at arg (checked by the caller's lf_open against RENDER_OPTIONS). */

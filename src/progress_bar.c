@@ -1,4 +1,4 @@
-/* progress_bar.c: a progress bar on stderr for renders longer than a second. */
+/* progress_bar.c: a progress bar on stderr for renders longer than a second, or lines. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,23 +10,41 @@
 #define REDRAW  0.1    /* at most ten redraws a second */
 #define WIDTH   30
 
-void progress_bar_begin(progress_bar *p, int enabled)
+void progress_bar_begin(progress_bar *p, int mode)
 {
     memset(p, 0, sizeof *p);
-    p->delay = enabled < 0 ? DELAY : 0;     /* asked for: shown from the start */
-    if (enabled < 0) {
+    p->delay = mode == PROGRESS_AUTO ? DELAY : 0;   /* asked for: shown from the start */
+    if (mode == PROGRESS_AUTO) {
         const char *term = getenv("TERM");
-        enabled = isatty(STDERR_FILENO) && !(term && strcmp(term, "dumb") == 0);
+        mode = isatty(STDERR_FILENO) && !(term && strcmp(term, "dumb") == 0)
+             ? PROGRESS_BAR : PROGRESS_NONE;
     }
-    p->enabled = enabled;
+    p->mode = mode;
+    p->percent = -1;
     p->start = p->last = clock_seconds();
+}
+
+/* "progress N/100" when N passed the last line's; 0 is written at once. */
+static void line(progress_bar *p, double done)
+{
+    int n = done >= 1 ? 100 : done > 0 ? (int)(done * 100) : 0;
+    if (n <= p->percent)
+        return;
+    p->percent = n;
+    fprintf(stderr, "progress %d/100\n", n);
+    fflush(stderr);
 }
 
 int progress_bar_update(void *ud, double done)
 {
     progress_bar *p = ud;
+    if (p->mode == PROGRESS_LINES) {
+        line(p, done);
+        return 0;
+    }
     double t = clock_seconds(), elapsed = t - p->start;
-    if (!p->enabled || elapsed < p->delay || (p->shown && t - p->last < REDRAW))
+    if (p->mode != PROGRESS_BAR || elapsed < p->delay ||
+        (p->shown && t - p->last < REDRAW))
         return 0;
     p->last = t;
     int fill = (int)(done * WIDTH + 0.5);
@@ -44,8 +62,10 @@ int progress_bar_update(void *ud, double done)
     return 0;
 }
 
-void progress_bar_end(progress_bar *p)
+void progress_bar_end(progress_bar *p, int finished)
 {
+    if (p->mode == PROGRESS_LINES && finished)
+        line(p, 1);
     if (p->shown) {                 /* leave the line clean for what follows */
         fputs("\r\033[K", stderr);
         fflush(stderr);
