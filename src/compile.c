@@ -10,6 +10,7 @@
 #include "camera.h"
 #include "interrupt.h"
 #include "mem.h"
+#include "texture.h"
 
 void compile_free(compiled *c)
 {
@@ -176,11 +177,16 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
         if (m->kt > 0 && m->shadow == LC_SHADOW_FILTERED) count(&filt, i);
     }
     int depth = compile_depth(s, o);
-    int lights = s->nlights > 0 || s->nemitters > 0;
+    int lights = s->nlights > 0 || s->nemitters > 0 || s->nspots > 0 || s->nsuns > 0;
     int ambient = !c_is_black(s->settings.ambient);
     int area = o->light_samples > 0;
     unsigned needs = 0;
     if (lit.count && s->nlights > 0) needs |= LC_NEED_SHADOW;
+    if (lit.count && s->nspots > 0) needs |= LC_NEED_SPOT;
+    if (lit.count && s->nsuns > 0) needs |= LC_NEED_SUN;
+    if (s->settings.background_texture > 0) needs |= LC_NEED_SKY;
+    c->sky_uv = (needs & LC_NEED_SKY) &&
+                textures_use_uv(s->textures, s->settings.background_texture - 1);
     if (lit.count && s->nemitters > 0) needs |= area ? LC_NEED_AREA : LC_NEED_EMITTER;
     if (spec.count && lights && o->specular) needs |= LC_NEED_SPECULAR;
     if (refl.count && depth > 0 && o->reflections) needs |= LC_NEED_REFLECT;
@@ -194,6 +200,8 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     if (tex.count) needs |= LC_NEED_TEXTURE;
     if (o->generic) {        /* everything that can run, runs */
         if (s->nlights) needs |= LC_NEED_SHADOW;
+        if (s->nspots) needs |= LC_NEED_SPOT;
+        if (s->nsuns) needs |= LC_NEED_SUN;
         if (s->nemitters) needs |= area ? LC_NEED_AREA : LC_NEED_EMITTER;
         if (o->specular) needs |= LC_NEED_SPECULAR;
         if (o->reflections && depth > 0) needs |= LC_NEED_REFLECT;
@@ -280,6 +288,22 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
             tex.count == 1 ? "" : "s", tex.first);
     else
         WHY(10, "no material in use has a texture");
+    if (needs & LC_NEED_SPOT)
+        WHY(11, "%zu spot light%s; %zu of %zu materials in use have kd or ks > 0 "
+            "(first: #%zu)", s->nspots, s->nspots == 1 ? "" : "s", lit.count,
+            inuse.count, lit.first);
+    else
+        WHY(11, s->nspots ? "no material in use has kd or ks > 0" : "no spot light");
+    if (needs & LC_NEED_SUN)
+        WHY(12, "%zu directional light%s; %zu of %zu materials in use have kd or ks > 0 "
+            "(first: #%zu)", s->nsuns, s->nsuns == 1 ? "" : "s", lit.count,
+            inuse.count, lit.first);
+    else
+        WHY(12, s->nsuns ? "no material in use has kd or ks > 0" : "no directional light");
+    if (needs & LC_NEED_SKY)
+        WHY(13, "the background is a texture over directions");
+    else
+        WHY(13, "the background is one colour");
 #undef WHY
 
     for (size_t i = 0; i < s->nmaterials; i++) {

@@ -210,6 +210,44 @@ lc_point_light lc_point_light_default(void);  /* at the origin, white, intensity
                                               ** inverse-square falloff */
 lc_status lc_point_light_check(const lc_point_light *l, lc_error *err);
 
+/* A point light whose light is confined to a cone (POV-Ray's spotlight, pbrt's
+** spot): colour and intensity as a point light's, times the cone's share
+** toward the lit point (lc_spot_light_share). */
+typedef struct {
+    lc_vec3    position;
+    lc_vec3    direction;  /* the cone's axis, the way it shines; any length > 0 */
+    double     angle;      /* the cone's half-angle in degrees, in (0, 180) */
+    double     soft;       /* the edge's width in degrees, in [0, angle]: full light
+                           ** within angle - soft of the axis, none past angle, a
+                           ** smoothstep of the cosine between */
+    lc_color   color;
+    double     intensity;  /* as a point light's, on the axis */
+    lc_falloff falloff;
+} lc_spot_light;
+
+/* At the origin pointing down -y, angle 30, soft 5, white, intensity 1,
+** inverse-square falloff. */
+lc_spot_light lc_spot_light_default(void);
+lc_status lc_spot_light_check(const lc_spot_light *l, lc_error *err);
+/* The share of the spot's intensity that goes toward point p: 1 within
+** angle - soft of the axis, 0 past angle (and at the position itself), and
+** between, with t = (cos theta - cos angle) / (cos(angle - soft) - cos angle),
+** t^2 (3 - 2 t). */
+double lc_spot_light_share(const lc_spot_light *l, lc_vec3 p);
+
+/* A light infinitely far away (a sun): parallel rays, parallel shadows, no
+** falloff. A white kd = 1 surface facing it reads irradiance / pi, as under
+** an emissive shape of that irradiance. */
+typedef struct {
+    lc_vec3  direction;    /* the way its light travels (from the sun); length > 0 */
+    lc_color color;
+    double   irradiance;   /* on a surface facing it, >= 0 */
+} lc_directional_light;
+
+lc_directional_light lc_directional_light_default(void);  /* straight down, white,
+                                                          ** irradiance pi */
+lc_status lc_directional_light_check(const lc_directional_light *l, lc_error *err);
+
 typedef struct {
     lc_vec3 from, at, up;
     double  fov;          /* horizontal field of view in degrees, in (0, 180) */
@@ -228,7 +266,7 @@ lc_status lc_camera_check(const lc_camera *c, lc_error *err);
 ** (kd, ks, ...), its luminance (0.2126 r + 0.7152 g + 0.0722 b) is used. */
 typedef enum {
     LC_TEX_CHECKER, LC_TEX_STRIPES, LC_TEX_GRADIENT, LC_TEX_NOISE, LC_TEX_MARBLE,
-    LC_TEX_WOOD, LC_TEX_IMAGE, LC_TEX_MIX, LC_TEX_KINDS
+    LC_TEX_WOOD, LC_TEX_IMAGE, LC_TEX_MIX, LC_TEX_SKY, LC_TEX_KINDS
 } lc_texture_kind;
 
 /* Where a pattern is evaluated: at the world point, at the point in the
@@ -246,7 +284,9 @@ typedef struct lc_textures lc_textures;   /* a set of textures that refer to eac
 typedef struct {
     lc_texture_kind kind;
     lc_color a, b;         /* checker's two squares, stripes' two bands, the ends of a
-                           ** gradient, the ramp of noise, marble and wood; mix: the two */
+                           ** gradient, the ramp of noise, marble and wood; mix: the two;
+                           ** sky: the zenith and the horizon */
+    lc_color c;            /* sky: the ground (straight down) */
     int      ta, tb;       /* or textures in their place: 1 + index in the set (0: the
                            ** colour) */
     int      tamount;      /* mix: 1 + index of the texture whose luminance weights b
@@ -280,6 +320,16 @@ size_t       lc_textures_count(const lc_textures *set);
 ** (p where it has none), uv its texture coordinates. */
 lc_color     lc_textures_eval(const lc_textures *set, int i, lc_vec3 p, lc_vec3 q,
                               const double uv[2]);
+/* A sky (LC_TEX_SKY) over the direction d from the origin to the point, y
+** = d_y / |d|: b + (a - b) y above the horizon, b + (c - b)(-y) below:
+** zenith, horizon and ground colours at y = 1, 0, -1, linear between. */
+
+/* The texture coordinates of the unit direction d, as on a sphere around
+** the origin: u = 0.5 + atan2(d_x, d_z) / 2 pi, v = 0.5 + asin(d_y) / pi, so an
+** image texture over them is an equirectangular map (its centre faces +z,
+** its top row is straight up). */
+void         lc_sky_uv(lc_vec3 d, double uv[2]);
+
 /* Perlin's improved gradient noise (2002): 0 at integer points, in [-1, 1]. */
 double       lc_noise(lc_vec3 p);
 
@@ -289,6 +339,10 @@ typedef struct lc_scene lc_scene;
 
 typedef struct {
     lc_color background;  /* what a ray that hits nothing sees */
+    int      background_texture;  /* or, when > 0, 1 + the index of the scene's
+                          ** texture (lc_scene_add_texture) seen in each direction:
+                          ** evaluated at the unit direction d as the point, at the
+                          ** (u, v) a sphere has there (see lc_sky_uv) */
     lc_color ambient;     /* Ia: ka * C * Ia is added at every hit */
     int      max_depth;   /* bounces, >= 0: each reflection or refraction adds 1;
                           ** the seed used 3 */
@@ -318,19 +372,25 @@ int       lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err
 int       lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t,
                                   int material, lc_error *err);
 int       lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err);
+int       lc_scene_add_spot_light(lc_scene *s, const lc_spot_light *l, lc_error *err);
+int       lc_scene_add_directional_light(lc_scene *s, const lc_directional_light *l,
+                                         lc_error *err);
 /* A copy scaled by `scale` about the origin and moved by `offset`, point-light
 ** intensities times scale^2, the camera's aperture and focus times scale,
 ** materials' absorption over scale: an exact renderer draws the same picture. */
 lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 offset,
                                lc_error *err);
 size_t    lc_scene_shape_count(const lc_scene *s);     /* shapes and meshes */
-size_t    lc_scene_light_count(const lc_scene *s);
+size_t    lc_scene_light_count(const lc_scene *s);  /* point, spot, directional */
 
 /* ---- Scene objects: listing and removing ------------------------------------ */
 
 /* Every lc_scene_add_* (shape, mesh or light) returns the next id: 0, 1, 2...
 ** An id names its object until it is removed, and is never given again. */
-typedef enum { LC_OBJECT_SHAPE, LC_OBJECT_MESH, LC_OBJECT_LIGHT } lc_object_kind;
+typedef enum {
+    LC_OBJECT_SHAPE, LC_OBJECT_MESH, LC_OBJECT_LIGHT, LC_OBJECT_SPOT_LIGHT,
+    LC_OBJECT_DIRECTIONAL_LIGHT
+} lc_object_kind;
 
 typedef struct {
     int            id;
@@ -340,7 +400,9 @@ typedef struct {
     lc_mesh       *mesh;       /* meshes: borrowed; the scene holds it */
     int            moved;      /* meshes: added with a transform (an instance) */
     lc_transform   transform;  /* meshes: that transform, else the identity */
-    lc_point_light light;      /* lights */
+    lc_point_light light;      /* point lights */
+    lc_spot_light  spot;       /* spot lights */
+    lc_directional_light sun;  /* directional lights */
 } lc_object;
 
 size_t    lc_scene_object_count(const lc_scene *s);
@@ -369,7 +431,10 @@ enum {
     LC_NEED_FILTER   = 1 << 9,   /* shadow rays cross materials with kt > 0 and
                                  ** shadow = filtered: no any-hit query for them */
     LC_NEED_TEXTURE  = 1 << 10,  /* some material in use has a texture */
-    LC_NEEDS         = 11        /* how many: bit k is 1 << k */
+    LC_NEED_SPOT     = 1 << 11,  /* spot lights light some material in use */
+    LC_NEED_SUN      = 1 << 12,  /* directional lights light some material in use */
+    LC_NEED_SKY      = 1 << 13,  /* the background is a texture over directions */
+    LC_NEEDS         = 14        /* how many: bit k is 1 << k */
 };
 
 typedef enum {
@@ -475,6 +540,12 @@ typedef struct {
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
                           lc_error *err);
 
+/* The kind of light a shadow ray goes to: `light` is its index among the
+** lights of that kind, 0-based (emitters: -1 - n for emissive shape n). */
+typedef enum {
+    LC_LIGHT_POINT, LC_LIGHT_SPOT, LC_LIGHT_DIRECTIONAL, LC_LIGHT_EMITTER
+} lc_light_kind;
+
 /* One ray of a pixel's ray tree (lc_scene_explain). */
 typedef struct {
     int          parent;        /* the ray this one leaves from; -1 for the camera ray */
@@ -489,6 +560,7 @@ typedef struct {
     long         shape;         /* index among the shapes of that kind, in the order
                                 ** added (triangles: among all meshes' faces) */
     int          material;      /* index of its material in the scene, 0-based */
+    int          light_kind;    /* shadow rays: LC_LIGHT_POINT, ... */
     int          light;         /* shadow rays: the point light's index, 0-based, or
                                 ** -1 - n for the emissive shape n (0-based) */
     lc_color     contribution;  /* what this ray adds to the pixel's value */
@@ -595,6 +667,9 @@ lc_status lc_image_set_window(lc_image *img, lc_window w, lc_error *err); /* fit
 ** oFFs chunk (its offset in pixels) and a tEXt chunk "lancer:frame" holding
 ** "W H", the frame's size. */
 typedef enum { LC_EXR_HALF, LC_EXR_FLOAT } lc_exr_pixel;
+/* What happens to a value past 1 (after exposure): clipped (the default), or
+** rolled off by a filmic curve (lc_tone_curve) so highlights keep detail. */
+typedef enum { LC_TONE_CLAMP, LC_TONE_FILMIC } lc_tone;
 typedef enum { LC_EXR_ZIP, LC_EXR_PIZ, LC_EXR_ZIPS, LC_EXR_RLE, LC_EXR_NONE } lc_exr_compression;
 typedef struct {
     lc_encoding encoding;            /* PNG: sRGB (default) or linear; EXR is linear */
@@ -604,7 +679,18 @@ typedef struct {
     lc_exr_compression exr_compression;  /* EXR: zip (default) */
     int         exr_tile;            /* EXR: 0 scanlines (default), else square tiles of
                                      ** this side, 1..LC_MAX_EXR_TILE */
+    double      exposure;            /* colours times 2^exposure before the tone curve,
+                                     ** in [-LC_MAX_EXPOSURE, LC_MAX_EXPOSURE]; 0 */
+    lc_tone     tone;                /* LC_TONE_CLAMP (default) or LC_TONE_FILMIC */
 } lc_save_options;
+
+#define LC_MAX_EXPOSURE 64
+
+/* The tone curve applied to one linear channel x (after exposure), before
+** encoding: LC_TONE_CLAMP is x itself (clamped to [0, 1] by the encoding);
+** LC_TONE_FILMIC is Narkowicz's fit of the ACES reference curve (2015),
+** x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), clamped to [0, 1]. */
+double lc_tone_curve(double x, lc_tone tone);
 
 #define LC_MAX_EXR_TILE 4096
 

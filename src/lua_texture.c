@@ -1,5 +1,5 @@
 /* lua_texture.c: textures: lancer.checker, stripes, gradient, noise, marble,
-** wood, image_texture and mix; tex:moved(T); their registration in a scene
+** wood, image_texture, mix and sky; tex:moved(T); their registration in a scene
 ** when a material that uses them is added. */
 #include <math.h>
 #include <string.h>
@@ -14,7 +14,8 @@
 enum { TU_A = 1, TU_B, TU_AMOUNT, TU_IMAGE, TU_COUNT = TU_IMAGE };
 
 static const char *const kind_names[LC_TEX_KINDS] = {
-    "checker", "stripes", "gradient", "noise", "marble", "wood", "image_texture", "mix"};
+    "checker", "stripes", "gradient", "noise", "marble", "wood", "image_texture", "mix",
+    "sky"};
 static const char *const mapping_opts[] = {"world", "object", "uv", NULL};
 static const char *const wrap_opts[] = {"repeat", "clamp", "mirror", NULL};
 static const char *const filter_opts[] = {"bilinear", "nearest", NULL};
@@ -46,8 +47,14 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
     lc_texture t = lc_texture_default(kind);
     ud_texture *u = push_texture(L, &t);
     int tex = lua_gettop(L);
-    read_slot(L, "a", &t.a, tex, TU_A);
-    read_slot(L, "b", &t.b, tex, TU_B);
+    if (kind == LC_TEX_SKY) {            /* zenith, horizon, ground: colours */
+        t.a = lf_color(L, 1, "zenith", 1, t.a);
+        t.b = lf_color(L, 1, "horizon", 1, t.b);
+        t.c = lf_color(L, 1, "ground", 0, t.b);
+    } else {
+        read_slot(L, "a", &t.a, tex, TU_A);
+        read_slot(L, "b", &t.b, tex, TU_B);
+    }
     t.scale = lf_number(L, 1, "scale", 0, t.scale);
     t.mapping = (lc_texture_mapping)lf_option(L, 1, "mapping", mapping_opts, (int)t.mapping);
     switch (kind) {
@@ -162,6 +169,13 @@ static int w_image_texture(lua_State *L)
                                         "mapping", NULL};
     return make(L, LC_TEX_IMAGE, known);
 }
+/* lancer.sky{zenith, horizon, ground = horizon}: a gradient over directions,
+** for a background. */
+static int w_sky(lua_State *L)
+{
+    static const char *const known[] = {"zenith", "horizon", "ground", NULL};
+    return make(L, LC_TEX_SKY, known);
+}
 static int w_mix(lua_State *L)
 {
     static const char *const known[] = {"a", "b", "amount", NULL};
@@ -271,6 +285,6 @@ void texture_register(lua_State *L)
     static const luaL_Reg ctors[] = {
         {"checker", w_checker}, {"stripes", w_stripes}, {"gradient", w_gradient},
         {"noise", w_noise}, {"marble", w_marble}, {"wood", w_wood},
-        {"image_texture", w_image_texture}, {"mix", w_mix}, {NULL, NULL}};
+        {"image_texture", w_image_texture}, {"mix", w_mix}, {"sky", w_sky}, {NULL, NULL}};
     luaL_setfuncs(L, ctors, 0);
 }

@@ -40,6 +40,9 @@ const char *lc_need_name(unsigned need)
     case LC_NEED_REFRACT: return "refract";
     case LC_NEED_FILTER: return "filter";
     case LC_NEED_TEXTURE: return "texture";
+    case LC_NEED_SPOT: return "spot";
+    case LC_NEED_SUN: return "sun";
+    case LC_NEED_SKY: return "sky";
     default: return "?";
     }
 }
@@ -330,9 +333,11 @@ static int run_pass(job *j, worker *ws, int nt)
 static void warn(const lc_scene *s, const lc_image *img, lc_stats *st)
 {
     st->warning[0] = '\0';
-    if (s->nlights == 0 && s->nemitters == 0 && c_is_black(s->settings.ambient)) {
-        snprintf(st->warning, sizeof st->warning, "the scene has no light (no point "
-                 "light, no emissive shape, no ambient light): only the background shows");
+    if (lc_scene_light_count(s) == 0 && s->nemitters == 0 &&
+        c_is_black(s->settings.ambient)) {
+        snprintf(st->warning, sizeof st->warning, "the scene has no light (no point, "
+                 "spot or directional light, no emissive shape, no ambient light): only "
+                 "the background shows");
         return;
     }
     size_t n = 3 * (size_t)img->width * img->height;

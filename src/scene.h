@@ -6,6 +6,7 @@
 #include <signal.h>
 #include "affine.h"
 #include "bvh.h"
+#include "lights.h"
 #include "mesh.h"
 #include "shape.h"
 
@@ -47,6 +48,7 @@ typedef struct {
     unsigned needs;        /* LC_NEED_* */
     int      depth;        /* the render's max_depth: its own or the scene's */
     uint16_t *plan;        /* per material, PLAN_* below: decided once per render */
+    int      sky_uv;       /* the background texture reads texture coordinates */
     char     why[LC_NEEDS][160];
     double   seconds;
     int      valid;        /* matches the scene as it is now */
@@ -71,6 +73,10 @@ struct lc_scene {
     SCENE_ARRAY(mesh_prim, meshes);
     SCENE_ARRAY(emitter, emitters);
     SCENE_ARRAY(lc_point_light, lights);
+    SCENE_ARRAY(spot_light, spots);       /* spot lights ... */
+    int        *spot_ids;                 /* ... and their ids, side by side */
+    SCENE_ARRAY(sun_light, suns);         /* directional lights */
+    int        *sun_ids;
     compiled    c;
 };
 

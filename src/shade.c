@@ -6,6 +6,7 @@
 #include "shade.h"
 #include "surface.h"
 #include "shade_lights.h"
+#include "sky.h"
 
 /* Where a path stands in the pixel's sample set: camera sample `index` of
 ** `count`, or a cone ray's place among all the pixel's cone rays. */
@@ -235,7 +236,8 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
         if (!intersect_closest(s, &r, HUGE_VAL, &h, &t->counts)) {
             if (glass && md.n) /* inside a medium: nothing comes from infinity */
                 w = media_absorb(s, &md, w, HUGE_VAL);
-            radiance bg = r_mul(w, rad(s->settings.background));
+            radiance bg = r_mul(w, t->needs & LC_NEED_SKY ? sky_radiance(s, r.d)
+                                                          : rad(s->settings.background));
             if (log && rec >= 0) {
                 explain_hit(t->log, s, rec, NULL, r.d, w);
                 explain_add(t->log, rec, bg);
@@ -269,10 +271,9 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
 
         light_sum sum = {{0, 0, 0}, {0, 0, 0}};
         if (plan & PLAN_LIGHTS) {
-            if (t->needs & LC_NEED_FILTER) {
+            if (t->needs & LIGHTS_APART) {
                 t->media = &md;
-                lights_filtered(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth,
-                                &sum);
+                lights_apart(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth, &sum);
             } else {
                 if (t->needs & LC_NEED_SHADOW)
                     point_lights(t, &h, m, plan, n, v, &sum, 0);

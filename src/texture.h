@@ -5,9 +5,11 @@
 #include "lancer.h"
 
 /* A copy of the set for a scene moved by x -> scale x + offset: textures
-** over world space move with it (their placement composed with the move). */
+** over world space move with it (their placement composed with the move),
+** but for texture keep - 1 (keep > 0) and those within it: the background,
+** over directions, which no move changes. */
 lc_textures *textures_transformed(const lc_textures *s, double scale, lc_vec3 offset,
-                                  lc_error *err);
+                                  int keep, lc_error *err);
 /* Luminance 0.2126 r + 0.7152 g + 0.0722 b of texture i at the point. */
 double       textures_scalar(const lc_textures *s, int i, lc_vec3 p, lc_vec3 q,
                              const double uv[2]);

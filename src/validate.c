@@ -14,7 +14,7 @@ lc_material lc_material_default(void)
 
 lc_settings lc_settings_default(void)
 {
-    lc_settings s = {{0, 0, 0}, {0, 0, 0}, 3};
+    lc_settings s = {{0, 0, 0}, 0, {0, 0, 0}, 3};
     return s;
 }
 
@@ -110,6 +110,16 @@ static lc_status check_color(lc_color c, double max, const char *field, lc_error
                            i + 1, max, ch[i]);
     }
     return LC_OK;
+}
+
+lc_status validate_coef(double x, const char *field, lc_error *err)
+{
+    return check_coef(x, field, err);
+}
+
+lc_status validate_color(lc_color c, double max, const char *field, lc_error *err)
+{
+    return check_color(c, max, field, err);
 }
 
 lc_status lc_material_check(const lc_material *m, lc_error *err)

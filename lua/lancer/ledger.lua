@@ -3,8 +3,8 @@
 local M = {}
 
 local KINDS = {"camera", "shadow", "reflection", "refraction", "glossy", "light", "cut"}
-local EFFECTS = {"shadow", "emitter", "area", "specular", "reflect", "refract", "filter",
-                 "glossy", "ambient", "lens"}
+local EFFECTS = {"shadow", "spot", "sun", "emitter", "area", "specular", "reflect",
+                 "refract", "filter", "glossy", "ambient", "lens", "sky"}
 
 -- The fields format reads: integers, numbers, tables (nil allowed for the
 -- optional ones, which older statistics lack).
