@@ -29,6 +29,7 @@ void explain_add(ray_log *g, int rec, radiance add);
 /* The light numbers explain_shadow takes for spot and directional light i. */
 #define EXPLAIN_SPOT(i) ((int)(i) | LC_LIGHT_SPOT << 28)
 #define EXPLAIN_SUN(i)  ((int)(i) | LC_LIGHT_DIRECTIONAL << 28)
+#define EXPLAIN_SKY     (LC_LIGHT_SKY << 28)
 
 /* A shadow ray toward `light` (i: point light i; -1 - e: emitter e; the
 ** above for the other kinds) from

@@ -434,7 +434,9 @@ enum {
     LC_NEED_SPOT     = 1 << 11,  /* spot lights light some material in use */
     LC_NEED_SUN      = 1 << 12,  /* directional lights light some material in use */
     LC_NEED_SKY      = 1 << 13,  /* the background is a texture over directions */
-    LC_NEEDS         = 14        /* how many: bit k is 1 << k */
+    LC_NEED_INDIRECT = 1 << 14,  /* indirect > 0: paths traced with light bouncing */
+    LC_NEED_AO       = 1 << 15,  /* ambient light darkened by ambient occlusion */
+    LC_NEEDS         = 16        /* how many: bit k is 1 << k */
 };
 
 typedef enum {
@@ -445,6 +447,8 @@ typedef enum {
     LC_RAY_LIGHT,        /* shadow rays toward sampled points of area lights */
     LC_RAY_CUT,          /* bounces not traced: their weight fell below the cutoff */
     LC_RAY_REFRACTION,   /* transmitted through a surface with kt > 0 */
+    LC_RAY_INDIRECT,     /* a path's diffuse and highlight bounces (indirect > 0) */
+    LC_RAY_AO,           /* ambient occlusion probes */
     LC_RAY_KINDS
 } lc_ray_kind;
 
@@ -498,6 +502,19 @@ typedef struct {
                              ** pixel's camera samples that hit something; camera
                              ** rays that miss add nothing (the background is
                              ** transparent; reflections still see it) */
+    int      indirect;       /* > 0: global illumination, paths of up to this many
+                             ** diffuse or highlight bounces (path.c); 0: the seed's
+                             ** direct light and mirrors, as ever */
+    int      roulette;       /* indirect: 1 ends paths by Russian roulette after
+                             ** LC_ROULETTE_DEPTH bounces (unbiased); 0 never */
+    int      nee;            /* indirect: 1 samples lights at each bounce, weighted
+                             ** against the BSDF's samples by the power heuristic;
+                             ** 0 finds emitters and the sky by BSDF sampling alone
+                             ** (point, spot and directional lights then light
+                             ** nothing): a check of the estimator */
+    int      ao_samples;     /* > 0: ambient light times the share of this many
+                             ** cosine-weighted probes that travel ao_distance free */
+    double   ao_distance;    /* how far a probe must get, > 0 */
     int      region[4];      /* x0, y0, x1, y1: only the pixels [x0, x1) x [y0, y1) of
                              ** the width x height frame, each exactly as in the whole
                              ** frame; the image is the region's size and knows where
@@ -510,6 +527,9 @@ typedef struct {
 #define LC_MAX_PIXELS ((size_t)1 << 28)  /* 268M pixels, 3 GiB of floats */
 
 #define LC_MAX_LIGHT_SAMPLES 4096
+#define LC_MAX_INDIRECT 1024          /* bounces of a path */
+#define LC_ROULETTE_DEPTH 3           /* bounces before roulette may end a path */
+#define LC_MAX_AO_SAMPLES 4096
 
 /* 640x480, 1 sample, Sobol', 16 light samples, cutoff 1/255, every effect on */
 lc_render_options lc_render_options_default(void);
@@ -543,7 +563,8 @@ lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
 /* The kind of light a shadow ray goes to: `light` is its index among the
 ** lights of that kind, 0-based (emitters: -1 - n for emissive shape n). */
 typedef enum {
-    LC_LIGHT_POINT, LC_LIGHT_SPOT, LC_LIGHT_DIRECTIONAL, LC_LIGHT_EMITTER
+    LC_LIGHT_POINT, LC_LIGHT_SPOT, LC_LIGHT_DIRECTIONAL, LC_LIGHT_EMITTER,
+    LC_LIGHT_SKY          /* the background, a light for paths (indirect > 0) */
 } lc_light_kind;
 
 /* One ray of a pixel's ray tree (lc_scene_explain). */
@@ -643,6 +664,11 @@ void      lc_save_abandon(void);
 ** v / (2^depth - 1), and drops alpha. Grey becomes RGB. Sizes past
 ** LC_MAX_SIDE or LC_MAX_PIXELS are refused, naming the cap. */
 lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err);
+
+/* Reads a Radiance .hdr (RGBE) image, linear floats as stored (through
+** stb_image). Sizes past LC_MAX_SIDE or LC_MAX_PIXELS, NaN or infinite
+** values are refused, naming the file. */
+lc_image *lc_image_load_hdr(const char *path, lc_error *err);
 
 /* An image may carry an alpha channel (a render with alpha, a file with one):
 ** linear, one value per pixel; colours stay premultiplied by it in memory, as

@@ -115,6 +115,21 @@ static int w_load_exr(lua_State *L)
     return 1;
 }
 
+/* lancer.load_hdr(path): a Radiance .hdr image, linear. */
+static int w_load_hdr(lua_State *L)
+{
+    luaL_checktype(L, 1, LUA_TSTRING);
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    ui->img = NULL;
+    luaL_setmetatable(L, IMAGE);
+    lc_error err;
+    ui->img = lc_image_load_hdr(lua_tostring(L, 1), &err);
+    if (!ui->img)
+        return luaL_argerror(L, 1, err.msg);
+    lancer_charge(L);
+    return 1;
+}
+
 /* lancer.merge(out, {part, ...}): the parts of one frame as the whole. */
 static int w_merge(lua_State *L)
 {
@@ -346,6 +361,8 @@ void image_register(lua_State *L)
     lua_setfield(L, -2, "load_png");
     lua_pushcfunction(L, w_load_exr);
     lua_setfield(L, -2, "load_exr");
+    lua_pushcfunction(L, w_load_hdr);
+    lua_setfield(L, -2, "load_hdr");
     lua_pushcfunction(L, w_merge);
     lua_setfield(L, -2, "merge");
     lua_pushcfunction(L, w_image);

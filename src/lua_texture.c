@@ -80,9 +80,12 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
         } else {
             lua_getfield(L, 1, "path");
             if (!lua_isstring(L, -1))
-                return lf_error(L, 1, "image", "an image or a path to a PNG expected");
+                return lf_error(L, 1, "image", "an image or a path to a PNG or .hdr file expected");
             lc_error err;
-            lc_image *img = lc_image_load_png(lua_tostring(L, -1), LC_ENCODE_SRGB, &err);
+            const char *path = lua_tostring(L, -1), *dot = strrchr(path, '.');
+            int hdr = dot && (strcmp(dot, ".hdr") == 0 || strcmp(dot, ".HDR") == 0);
+            lc_image *img = hdr ? lc_image_load_hdr(path, &err)
+                                : lc_image_load_png(path, LC_ENCODE_SRGB, &err);
             if (!img)
                 return lf_error(L, 1, "path", "%s", err.msg);
             ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);

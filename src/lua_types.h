@@ -97,7 +97,8 @@ lc_scene *scene_at(lua_State *L, int idx);
 #define RENDER_OPTIONS "width", "height", "samples", "seed", "threads", "cosine", \
                        "cutoff", "shadows", "reflections", "specular", "generic", \
                        "frame", "sampler", "light_samples", "cone_samples", "max_depth", \
-                       "noise", "min_samples", "glossy", "alpha", "region"
+                       "noise", "min_samples", "glossy", "alpha", "region", "indirect", \
+                       "roulette", "nee", "ao"
 void render_read_options(lua_State *L, int arg, lc_render_options *o);
 
 /* lua_hook.c: the host hook (lancer.set_host_hook; the comment there says

@@ -1,8 +1,9 @@
-/* shade_lights.h: the light loops at a hit: point lights, the seed's emitters
-** (one ray toward their centre) and emitters sampled as area lights, with
-** the one shadow ray they all trace. Static functions, included by shade.c
-** alone: in a file of their own they no longer inline into the path loop,
-** and B1 took 2.2 % more instructions (callgrind, 320x180). */
+/* shade_lights.h: the light loops at a hit: point, spot and directional
+** lights, the seed's emitters (one ray toward their centre) and emitters
+** sampled as area lights, with the one shadow ray they all trace. Static
+** functions, included by shade.c (and path.c, for the shadow ray): in a
+** file of their own they no longer inline into the path loop, and B1 took
+** 2.2 % more instructions (callgrind, 320x180). */
 #ifndef LC_SHADE_LIGHTS_H
 #define LC_SHADE_LIGHTS_H
 
@@ -343,16 +344,6 @@ ALWAYS_INLINE void lights_all(tracer *t, const hit *h, const lc_material *m,
         emitters(t, h, m, plan, n, v, sum, filter);
     if (t->needs & LC_NEED_AREA)
         area_lights(t, h, m, plan, n, v, index, count, depth, sum, filter);
-}
-
-NEVER_INLINE void lights_apart(tracer *t, const hit *h, const lc_material *m,
-                               unsigned plan, lc_vec3 n, lc_vec3 v, uint32_t index,
-                               uint32_t count, int depth, light_sum *sum)
-{
-    if (t->needs & LC_NEED_FILTER)
-        lights_all(t, h, m, plan, n, v, index, count, depth, sum, 1);
-    else
-        lights_all(t, h, m, plan, n, v, index, count, depth, sum, 0);
 }
 
 /* The needs that take the light loops out of line. */

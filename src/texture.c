@@ -393,6 +393,18 @@ double textures_step(const lc_textures *s, int i)
     return 1e-3 * s->t[i].d.scale;
 }
 
+int textures_image(const lc_textures *s, int i, const float **px, int *w, int *h)
+{
+    const texture *t = &s->t[i];
+    if (t->d.kind != LC_TEX_IMAGE || t->d.mapping != LC_MAP_UV || t->d.moved ||
+        t->d.scale != 1)
+        return 0;
+    *px = t->px;
+    *w = t->w;
+    *h = t->h;
+    return 1;
+}
+
 int textures_use_uv(const lc_textures *s, int i)
 {
     const lc_texture *d = &s->t[i].d;

@@ -15,6 +15,10 @@ double       textures_scalar(const lc_textures *s, int i, lc_vec3 p, lc_vec3 q,
                              const double uv[2]);
 /* The step over which a bump's slope is taken: a thousandth of its period. */
 double       textures_step(const lc_textures *s, int i);
+/* 1 when texture i is an image laid once over the texture coordinates (not
+** moved, scale 1): its linear RGB texels, row 0 at the top, w x h. */
+int          textures_image(const lc_textures *s, int i, const float **px, int *w,
+                            int *h);
 /* 1 when texture i, or one within it, reads texture coordinates. */
 int          textures_use_uv(const lc_textures *s, int i);
 

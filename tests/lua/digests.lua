@@ -28,6 +28,8 @@ return {
   ["scenes/bench/b3.lua 24 @48x36x1"] = "6a275edcb7c9a5b7",
   ["scenes/bench/s7.lua - 32 1 1 @32x24x4"] = "0a6e2abb8c2ed783",
   ["scenes/bench/s7.lua - 32 1 1 @48x36x1"] = "0083a83f02306c02",
+  ["scenes/cornell.lua @32x24x4"] = "0ee945c27aa3e6b0",
+  ["scenes/cornell.lua @48x36x1"] = "208482bcea92d2cc",
   ["scenes/seed/fig01.lua @32x24x4"] = "42398bb10ca73058",
   ["scenes/seed/fig01.lua @48x36x1"] = "0c4f00bfacbc3375",
   ["scenes/seed/fig02.lua @32x24x4"] = "e87b4c39121cc556",
