@@ -11,11 +11,9 @@
 -- what `indirect` switches on; with indirect = 0 the walls facing away from
 -- the light are black and nothing bleeds.
 --   build/bin/lancer scenes/cornell.lua [out.png] [samples] [indirect]
+-- loadfile("scenes/cornell.lua")("--scene") returns the scene, unrendered
+-- (tools/bench/bounces.lua measures it).
 local lancer = require "lancer"
-
-local out = arg and arg[1] or "out/cornell.png"
-local samples = tonumber(arg and arg[2]) or 64
-local indirect = tonumber(arg and arg[3]) or 8
 
 local scene = lancer.scene{
   camera = lancer.camera{from = {27.8, 27.3, -80}, at = {27.8, 27.3, 0}, fov = 39.5},
@@ -62,6 +60,11 @@ block({{42.3, 24.7}, {26.5, 29.6}, {31.4, 45.6}, {47.2, 40.6}}, 33.0)
 scene:add(lancer.quad{corner = {21.3, 54.87, 22.7}, u = {13, 0, 0}, v = {0, 0, 10.5},
                       material = lancer.material{kd = 0, emission = {17, 12, 4}}})
 
+if ... == "--scene" then return scene end
+
+local out = arg and arg[1] or "out/cornell.png"
+local samples = tonumber(arg and arg[2]) or 64
+local indirect = tonumber(arg and arg[3]) or 8
 local img, stats = scene:render{width = 256, height = 256, samples = samples,
                                 indirect = indirect}
 img:save(out, {tone = "filmic"})
