@@ -37,4 +37,5 @@ still 10_glass 100
 still 11_csg 107
 still 12_textures 100
 still 13_obj_mtl 100
+still 14_shapes 100
 ls -l "$out"
