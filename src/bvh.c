@@ -99,8 +99,14 @@ static float box_area(const box3 *b)
 ** in order. */
 typedef bvh_item item;
 
+/* The binary tree as it grows. */
 typedef struct {
-    bvh   *b;
+    bvh2_node *nodes;
+    size_t     nnodes;
+} tree2;
+
+typedef struct {
+    tree2 *b;
     size_t cap;
     item  *items;
     int    failed;               /* out of memory, or cancelled */
@@ -119,10 +125,10 @@ static int stopped(builder *bd)
 
 static uint32_t new_node(builder *bd)
 {
-    bvh *b = bd->b;
+    tree2 *b = bd->b;
     if (b->nnodes == bd->cap) {
         size_t nc = bd->cap + bd->cap / 2 + 64;
-        bvh_node *p = mem_realloc(b->nodes, nc * sizeof *p);
+        bvh2_node *p = mem_realloc(b->nodes, nc * sizeof *p);
         if (!p) {
             bd->failed = 1;
             return 0;
@@ -145,7 +151,7 @@ static int bin_of(const item *it, int axis, float lo, float scale)
 
 static void make_leaf(builder *bd, uint32_t ni, size_t begin, size_t n, const box3 *bounds)
 {
-    bvh_node *node = &bd->b->nodes[ni];
+    bvh2_node *node = &bd->b->nodes[ni];
     memcpy(node->lo, bounds->lo, sizeof node->lo);
     memcpy(node->hi, bounds->hi, sizeof node->hi);
     node->start = (uint32_t)begin;
@@ -275,7 +281,7 @@ static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bound
     if (bd->failed)
         return;
     build(bd, right, mid, end, rb, rcb, depth + 1);
-    bvh_node *node = &bd->b->nodes[ni];   /* the array may have moved */
+    bvh2_node *node = &bd->b->nodes[ni];   /* the array may have moved */
     memcpy(node->lo, bounds.lo, sizeof node->lo);
     memcpy(node->hi, bounds.hi, sizeof node->hi);
     node->start = right;
@@ -316,10 +322,10 @@ static void clamp_bounds(item *items, size_t n)
         }
 }
 
-lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_seen,
+lc_status bvh_build(bvh *out, bvh_item *items, size_t n, sig_atomic_t interrupts_seen,
                     lc_error *err)
 {
-    memset(b, 0, sizeof *b);
+    memset(out, 0, sizeof *out);
     if (n == 0) {
         mem_free(items);
         return LC_OK;
@@ -328,6 +334,7 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_s
         mem_free(items);
         return error_fail(err, LC_EARG, NULL, "too many primitives: %zu", n);
     }
+    tree2 tree = {NULL, 0}, *b = &tree;
     builder bd = {b, n / 3 + 64, items, 0, 0, interrupts_seen};
     clamp_bounds(items, n);
     b->nodes = mem_alloc(bd.cap * sizeof *b->nodes);
@@ -377,7 +384,7 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_s
         box3 lb, lcb;
         job right;
         memset(&right, 0, sizeof right);
-        bvh rb;
+        tree2 rb;
         memset(&rb, 0, sizeof rb);
         right.bd.b = &rb;
         right.bd.cap = (n - mid) / 3 + 64;
@@ -405,7 +412,7 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_s
         } else {
             /* Append the right half; its interior nodes point within it. */
             size_t off = b->nnodes;
-            bvh_node *p = mem_realloc(b->nodes, (off + rb.nnodes) * sizeof *p);
+            bvh2_node *p = mem_realloc(b->nodes, (off + rb.nnodes) * sizeof *p);
             if (!p) {
                 bd.failed = 1;
             } else {
@@ -416,7 +423,7 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_s
                         p[off + i].start += (uint32_t)off;
                 }
                 b->nnodes += rb.nnodes;
-                bvh_node *root = &b->nodes[0];
+                bvh2_node *root = &b->nodes[0];
                 memcpy(root->lo, all.lo, sizeof root->lo);
                 memcpy(root->hi, all.hi, sizeof root->hi);
                 root->start = (uint32_t)off;
@@ -428,7 +435,7 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_s
     }
     if (bd.failed || stopped(&bd)) {
         mem_free(items);
-        bvh_free(b);
+        mem_free(b->nodes);
         if (bd.cancelled)
             return error_fail(err, LC_ECANCEL, NULL, "render cancelled");
         return error_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
@@ -441,17 +448,24 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_s
         refs[i] = id;
     }
     uint32_t *fit = mem_realloc(refs, n * sizeof *fit);
-    b->refs = fit ? fit : refs;
-    b->nrefs = n;
-    bvh_node *nfit = mem_realloc(b->nodes, b->nnodes * sizeof *nfit);
-    if (nfit)
-        b->nodes = nfit;
+    out->refs = fit ? fit : refs;
+    out->nrefs = n;
+    bvh2_node *bfit = mem_realloc(b->nodes, b->nnodes * sizeof *bfit);
+    if (bfit)                 /* the slack returned before the wide nodes come */
+        b->nodes = bfit;
+    lc_status st = bvh_collapse(out, b->nodes, b->nnodes);
+    mem_free(b->nodes);
+    if (st) {
+        bvh_free(out);
+        return error_fail(err, st, NULL, "out of memory building a BVH over %zu "
+                          "primitives", n);
+    }
     return LC_OK;
 }
 
 void bvh_free(bvh *b)
 {
-    mem_free(b->nodes);
+    mem_free(b->block);
     mem_free(b->refs);
     memset(b, 0, sizeof *b);
 }

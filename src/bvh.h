@@ -10,20 +10,30 @@
 #include "lancer.h"
 #include "vec.h"
 
-/* 32 bytes. Bounds are floats rounded outward from the double geometry, so a
-** node always contains what it claims to. */
+/* The hierarchy as traversed: 4-wide nodes of 128 bytes, two cache lines,
+** collapsed from the binary tree the build makes (bvh_wide.c). Child k's
+** box is lo[a][k]..hi[a][k] on axis a, floats rounded outward from the
+** double geometry, so a box always contains what it claims to; laid out by
+** axis so that one load reads an axis's four bounds. A child with count > 0
+** is a leaf, refs[child, child + count); with count 0 it is the node
+** nodes[child]. Slots n..3 are empty: no box (lo > hi), never visited. */
 typedef struct {
-    float    lo[3], hi[3];
-    uint32_t start;   /* leaf: first entry of refs; interior: index of the second child */
-    uint16_t count;   /* leaf: number of refs (> 0); interior: 0 */
-    uint16_t axis;    /* interior: split axis, to visit the nearer child first */
+    float    lo[3][4], hi[3][4];
+    uint32_t child[4];
+    uint16_t count[4];
+    uint32_t n;        /* children in use: 2..4 (1 for a root that is a leaf) */
+    uint32_t pad;
 } bvh_node;
+/* Two cache lines, so that nodes 64-byte aligned keep their bounds aligned. */
+typedef char bvh_node_is_128_bytes[sizeof(bvh_node) == 128 ? 1 : -1];
 
 typedef struct {
-    bvh_node *nodes;   /* nodes[0] is the root; an interior node's first child follows it */
+    bvh_node *nodes;   /* nodes[0] is the root, 64-byte aligned in `block` */
     size_t    nnodes;
     uint32_t *refs;    /* leaf entries: indices into the caller's primitive list */
     size_t    nrefs;
+    void     *block;   /* the allocation holding nodes */
+    int       lone;    /* the root's one child is a leaf (bvh_lone_leaf) */
 } bvh;
 
 /* One primitive to build over: its bounds and the caller's id for it. */
@@ -41,30 +51,19 @@ lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_s
                     lc_error *err);
 void      bvh_free(bvh *b);
 
-/* Roundings in a slab distance (bound - o) * inv: the subtraction, the
-** reciprocal and the product. */
-#define BVH_RECIPROCAL_GAMMA 3
+/* The binary tree the build makes (bvh.c), before bvh_collapse (bvh_wide.c)
+** makes it wide: a leaf holds refs[start, start + count); an interior
+** node's first child follows it, its second is nodes[start]. */
+typedef struct {
+    float    lo[3], hi[3];
+    uint32_t start;
+    uint16_t count;   /* leaf: > 0; interior: 0 */
+    uint16_t axis;
+} bvh2_node;
 
-/* Slab test of a node for a ray with origin o, reciprocal direction inv and
-** signs neg (inv < 0): its entry distance, or +inf when the ray misses it
-** before tmax. The far distance is enlarged by 1 + 2 gamma(n), n the
-** roundings above, so they can never turn a hit into a miss (Ize 2013,
-** pbrt-v4); NaN from 0 * inf is ignored by the comparisons. */
-static inline double bvh_enter(const bvh_node *nd, const double o[3], const double inv[3],
-                               const int neg[3], double tmax)
-{
-    static const double widen = 1 + 2 * (BVH_RECIPROCAL_GAMMA * (DBL_EPSILON / 2)) /
-                                    (1 - BVH_RECIPROCAL_GAMMA * (DBL_EPSILON / 2));
-    double t0 = 0, t1 = tmax;
-    for (int k = 0; k < 3; k++) {
-        double a = (nd->lo[k] - o[k]) * inv[k];
-        double b = (nd->hi[k] - o[k]) * inv[k];
-        double near = neg[k] ? b : a, far = (neg[k] ? a : b) * widen;
-        t0 = near > t0 ? near : t0;
-        t1 = far < t1 ? far : t1;
-    }
-    return t0 <= t1 ? t0 : HUGE_VAL;
-}
+/* Fills b->nodes (and nnodes, block) from the binary tree nodes[0, n),
+** n >= 1; LC_ENOMEM when out of memory, b then unchanged. */
+lc_status bvh_collapse(bvh *b, const bvh2_node *nodes, size_t n);
 
 /* Rounds a double outward to a float bound. */
 float bvh_down(double x);
@@ -81,13 +80,14 @@ void bvh_bounds_grow(float lo[3], float hi[3], lc_vec3 p);
 
 /* The build makes leaves at this depth; only a leaf of more than 65 535
 ** primitives is halved further, which at most 2^28 of them adds 13 levels.
-** A traversal pushes at most one node per level: its stack holds twice the
-** depth. */
+** A wide node is at least one binary level, and a traversal pushes at most
+** three children per node it visits. */
 #define BVH_MAX_DEPTH 64
-#define BVH_STACK     (2 * BVH_MAX_DEPTH)
+#define BVH_STACK     (3 * (BVH_MAX_DEPTH + 16))
 
-/* Intersection work, counted per thread: primitive and BVH node tests. */
-typedef struct { uint64_t prims, nodes; } bvh_counts;
+/* Intersection work, counted per thread: primitive and BVH node tests, and
+** the CSG sweeps' leaf tests (csg.h). */
+typedef struct { uint64_t prims, nodes, csg; } bvh_counts;
 
 /* A ray as the slab tests read it: origin, reciprocal direction and the
 ** signs of the reciprocals (so -0 counts as negative). */
@@ -111,93 +111,294 @@ static inline void bvh_ray_init(bvh_ray *q, lc_vec3 o, lc_vec3 d)
         q->neg[k] = q->inv[k] < 0;
 }
 
-/* The traversals take their leaf test as a function, called with a constant:
-** once the traversal is inlined into its one caller, so is the leaf. */
+/* Roundings in a slab distance (bound - o) * inv: the subtraction, the
+** reciprocal and the product. */
+#define BVH_RECIPROCAL_GAMMA 3
+/* 1 + 2 gamma(3): the far distances are enlarged by it. */
+#define BVH_WIDEN (1 + 2 * (BVH_RECIPROCAL_GAMMA * (DBL_EPSILON / 2)) / \
+                   (1 - BVH_RECIPROCAL_GAMMA * (DBL_EPSILON / 2)))
+/* The entry distance is lowered by 1 - 64 eps: past its own gamma(3), this
+** covers a primitive's distance rounded up to ~30 ulps short of where the
+** ray meets its box. Without it, rays aimed at a mesh vertex lying on a
+** box face (18 in 1e5, test_widebvh.c) found the shared vertex's faces at
+** one t, but a box's entry rounded above it culled the face of lower id,
+** and the tie went the other way. 2 eps sufficed there; 64 costs nothing. */
+#define BVH_NEAR_SLACK 64
+#define BVH_SHRINK (1 - BVH_NEAR_SLACK * DBL_EPSILON)
+
+/* The box test, and why it culls no hit. Each child box is tested in
+** double, exactly as the binary tree's were: the float bound converts to
+** double exactly, then (bound - o) * inv rounds three times (the
+** subtraction, the reciprocal, the product), each by a factor within
+** 1 +- eps, so the computed slab distance is within gamma(3) of the exact
+** distance to the float plane. Enlarging every far distance by
+** 1 + 2 gamma(3) then puts it beyond the exact far distance whatever those
+** roundings did, so the computed interval [max near, min far] is never
+** empty when the exact segment (0, tmax) of the ray crosses the box (Ize
+** 2013, pbrt-v4): a ray through a box (or along its face, or from inside)
+** always enters it, and the float bounds contain their primitives. The
+** entry max(0, near) is multiplied by BVH_SHRINK once the axes are done
+** (the same bits as shrinking each near: rounding is monotonic), so it
+** is a lower bound of the exact entry. NaN
+** (0 * inf, a ray in a slab's plane) is ignored: max and min keep the
+** running value, as the comparisons `near > t0 ? near : t0` do.
+**
+** The SIMD form computes the same expressions lane by lane: the same IEEE
+** double operations in the same order (conversion, subtraction, product,
+** product by BVH_WIDEN), and vmaxpd/vminpd return their second operand
+** unless the first is greater (smaller), which is that comparison, NaN
+** included. So both forms give the same bits, the traversal visits the
+** same boxes in the same order, and images cannot tell them apart. The
+** bounds stay floats (memory), the arithmetic is double (the robust
+** geometry's): four lanes of double are one AVX instruction, as four
+** lanes of float would be one SSE instruction, plus one conversion. */
+
+/* Entry distances of the node's children into t[] (for those the ray
+** meets before tmax), and a mask of them. */
+ALWAYS_INLINE unsigned bvh_test_scalar(const bvh_node *nd, const bvh_ray *q, double tmax,
+                                       double t[4])
+{
+    unsigned mask = 0;
+    for (uint32_t c = 0; c < nd->n; c++) {
+        double t0 = 0, t1 = tmax;
+        for (int k = 0; k < 3; k++) {
+            double a = ((double)nd->lo[k][c] - q->o[k]) * q->inv[k];
+            double b = ((double)nd->hi[k][c] - q->o[k]) * q->inv[k];
+            double near = q->neg[k] ? b : a, far = (q->neg[k] ? a : b) * BVH_WIDEN;
+            t0 = near > t0 ? near : t0;
+            t1 = far < t1 ? far : t1;
+        }
+        t0 *= BVH_SHRINK;
+        t[c] = t0;
+        if (t0 <= t1)
+            mask |= 1u << c;
+    }
+    return mask;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(LC_NO_SIMD)
+#include <immintrin.h>
+#define BVH_HAVE_SIMD 1
+/* Functions calling bvh_test_simd carry this: AVX, nothing more (no FMA:
+** the geometry is built without contraction). */
+#define BVH_SIMD_TARGET __attribute__((target("avx")))
+
+BVH_SIMD_TARGET ALWAYS_INLINE unsigned bvh_test_simd(const bvh_node *nd, const bvh_ray *q,
+                                                     double tmax, double t[4])
+{
+    __m256d t0 = _mm256_setzero_pd(), t1 = _mm256_set1_pd(tmax);
+    const __m256d widen = _mm256_set1_pd(BVH_WIDEN), shrink = _mm256_set1_pd(BVH_SHRINK);
+    for (int k = 0; k < 3; k++) {
+        const float *nb = q->neg[k] ? nd->hi[k] : nd->lo[k];
+        const float *fb = q->neg[k] ? nd->lo[k] : nd->hi[k];
+        __m256d o = _mm256_set1_pd(q->o[k]), inv = _mm256_set1_pd(q->inv[k]);
+        __m256d near = _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(nb)), o), inv);
+        __m256d far = _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(fb)), o), inv);
+        far = _mm256_mul_pd(far, widen);
+        t0 = _mm256_max_pd(near, t0);
+        t1 = _mm256_min_pd(far, t1);
+    }
+    t0 = _mm256_mul_pd(t0, shrink);
+    _mm256_storeu_pd(t, t0);
+    unsigned in = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(t0, t1, _CMP_LE_OQ));
+    return in & ((1u << nd->n) - 1);
+}
+#else
+#define BVH_HAVE_SIMD 0
+#define BVH_SIMD_TARGET
+#define bvh_test_simd bvh_test_scalar
+#endif
+
+/* Whether traversals use bvh_test_simd: the processor has AVX and the
+** environment does not say LANCER_SIMD=0. Decided once, by the first
+** build. */
+extern int bvh_simd;
+void bvh_simd_init(void);
+/* Tests switch it (1 on, 0 off) and get the previous setting; on needs
+** the processor's support, else it stays off. */
+int  bvh_simd_set(int on);
+
+/* A pushed child: a node (count 0) or a leaf, and its entry distance. */
+typedef struct {
+    uint32_t child, count;
+    double   t;
+} bvh_entry;
+
+/* The traversals take their leaf test and their box test as functions,
+** called with constants: once the traversal is inlined into its one
+** caller, so are they. The callers come in pairs, one built for the
+** SIMD box test (BVH_SIMD_TARGET), one for the scalar (bvh.h's
+** BVH_DISPATCH). */
 
 /* Closest hit: visits the leaves that may hold a hit nearer than tmax,
-** nearer child first, skipping a farther one once a hit lies before it.
-** leaf(ctx, ref, tmax) tests one primitive and returns tmax, shrunk when it
-** found a nearer hit. Returns the number of node tests. */
+** nearer children first, skipping one once a hit lies before it.
+** leaf(ctx, ref, tmax) tests one primitive and returns tmax, shrunk when
+** it found a nearer hit. Returns the number of box tests. */
 ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
-                                double (*leaf)(void *ctx, uint32_t ref, double tmax))
+                                   double (*leaf)(void *ctx, uint32_t ref, double tmax),
+                                   unsigned (*test)(const bvh_node *, const bvh_ray *, double,
+                                                    double *))
 {
     if (!b->nnodes)
         return 0;
-    uint64_t nn = 1;
-    if (bvh_enter(&b->nodes[0], q->o, q->inv, q->neg, tmax) == HUGE_VAL)
-        return nn;
-    uint32_t stack[BVH_STACK];
-    double enter[BVH_STACK];
+    uint64_t nn = 0;
+    bvh_entry stack[BVH_STACK];
     int sp = 0;
     uint32_t ni = 0;
     for (;;) {
         const bvh_node *nd = &b->nodes[ni];
-        if (nd->count) {
-            for (uint32_t k = 0; k < nd->count; k++)
-                tmax = leaf(ctx, b->refs[nd->start + k], tmax);
-        } else {
-            uint32_t c0 = ni + 1, c1 = nd->start;
-            double t0 = bvh_enter(&b->nodes[c0], q->o, q->inv, q->neg, tmax);
-            double t1 = bvh_enter(&b->nodes[c1], q->o, q->inv, q->neg, tmax);
-            nn += 2;
-            if (t1 < t0) {
-                uint32_t c = c0; c0 = c1; c1 = c;
-                double t = t0; t0 = t1; t1 = t;
+        double t[4];
+        unsigned m = test(nd, q, tmax, t);
+        nn += nd->n;
+        /* The children met, nearest first; equal distances in slot order. */
+        bvh_entry e[4];
+        int h = 0;
+        while (m) {
+            unsigned c = (unsigned)__builtin_ctz(m);
+            m &= m - 1;
+            int j = h++;
+            while (j > 0 && e[j - 1].t > t[c]) {
+                e[j] = e[j - 1];
+                j--;
             }
-            if (t0 < HUGE_VAL) {
-                if (t1 < HUGE_VAL) {
-                    stack[sp] = c1;
-                    enter[sp++] = t1;
-                }
-                ni = c0;
+            e[j].child = nd->child[c];
+            e[j].count = nd->count[c];
+            e[j].t = t[c];
+        }
+        for (int j = h - 1; j > 0; j--)          /* the farthest deepest */
+            stack[sp++] = e[j];
+        if (h) {
+            if (e[0].count == 0) {
+                ni = e[0].child;
                 continue;
             }
+            for (uint32_t k = 0; k < e[0].count; k++)
+                tmax = leaf(ctx, b->refs[e[0].child + k], tmax);
         }
-        do {
+        for (;;) {
             if (sp == 0)
                 return nn;
-            --sp;
-        } while (enter[sp] > tmax);
-        ni = stack[sp];
+            const bvh_entry *p = &stack[--sp];
+            if (p->t > tmax)
+                continue;
+            if (p->count == 0) {
+                ni = p->child;
+                break;
+            }
+            for (uint32_t k = 0; k < p->count; k++)
+                tmax = leaf(ctx, b->refs[p->child + k], tmax);
+        }
     }
 }
 
 /* Any hit: leaf(ctx, ref, tmax) returns nonzero when the primitive blocks
 ** the ray, which ends the search. Returns 1 if one did; *nodes counts the
-** node tests. */
+** box tests. Children are taken in slot order: any blocker will do. */
 ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
-                       int (*leaf)(void *ctx, uint32_t ref, double tmax), uint64_t *nodes)
+                          int (*leaf)(void *ctx, uint32_t ref, double tmax), uint64_t *nodes,
+                          unsigned (*test)(const bvh_node *, const bvh_ray *, double,
+                                           double *))
 {
     if (!b->nnodes)
         return 0;
-    ++*nodes;
-    if (bvh_enter(&b->nodes[0], q->o, q->inv, q->neg, tmax) == HUGE_VAL)
-        return 0;
-    uint32_t stack[BVH_STACK];
+    bvh_entry stack[BVH_STACK];
     int sp = 0;
     uint32_t ni = 0;
     for (;;) {
         const bvh_node *nd = &b->nodes[ni];
-        if (nd->count) {
-            for (uint32_t k = 0; k < nd->count; k++)
-                if (leaf(ctx, b->refs[nd->start + k], tmax))
-                    return 1;
-        } else {
-            uint32_t c0 = ni + 1, c1 = nd->start;
-            int h0 = bvh_enter(&b->nodes[c0], q->o, q->inv, q->neg, tmax) < HUGE_VAL;
-            int h1 = bvh_enter(&b->nodes[c1], q->o, q->inv, q->neg, tmax) < HUGE_VAL;
-            *nodes += 2;
-            if (h0 || h1) {
-                if (h0 && h1)
-                    stack[sp++] = c1;
-                ni = h0 ? c0 : c1;
-                continue;
+        double t[4];
+        unsigned m = test(nd, q, tmax, t);
+        *nodes += nd->n;
+        int descend = 0;
+        while (m) {
+            unsigned c = (unsigned)__builtin_ctz(m);
+            m &= m - 1;
+            if (nd->count[c]) {
+                for (uint32_t k = 0; k < nd->count[c]; k++)
+                    if (leaf(ctx, b->refs[nd->child[c] + k], tmax))
+                        return 1;
+            } else if (!descend) {
+                descend = 1;
+                ni = nd->child[c];
+            } else {
+                stack[sp].child = nd->child[c];
+                stack[sp++].count = 0;
             }
         }
+        if (descend)
+            continue;
         if (sp == 0)
             return 0;
-        ni = stack[--sp];
+        ni = stack[--sp].child;
     }
 }
+
+/* A hierarchy of one leaf (a scene of a few bounded shapes, as B1's three
+** spheres and a box): its box tested inline, then the leaf, as the binary
+** tree did, without the call and set-up of a traversal. */
+static inline int bvh_lone_leaf(const bvh *b)
+{
+    return b->lone;
+}
+
+/* bvh_test_scalar's arithmetic for the root's one child: 1 when met. */
+ALWAYS_INLINE int bvh_test_lone(const bvh_node *nd, const bvh_ray *q, double tmax)
+{
+    double t0 = 0, t1 = tmax;
+    for (int k = 0; k < 3; k++) {
+        double a = ((double)nd->lo[k][0] - q->o[k]) * q->inv[k];
+        double b = ((double)nd->hi[k][0] - q->o[k]) * q->inv[k];
+        double near = q->neg[k] ? b : a, far = (q->neg[k] ? a : b) * BVH_WIDEN;
+        t0 = near > t0 ? near : t0;
+        t1 = far < t1 ? far : t1;
+    }
+    return t0 * BVH_SHRINK <= t1;
+}
+
+ALWAYS_INLINE uint64_t bvh_closest_lone(const bvh *b, const bvh_ray *q, double tmax,
+                                        void *ctx,
+                                        double (*leaf)(void *ctx, uint32_t ref, double tmax))
+{
+    const bvh_node *nd = &b->nodes[0];
+    if (bvh_test_lone(nd, q, tmax))
+        for (uint32_t k = 0; k < nd->count[0]; k++)
+            tmax = leaf(ctx, b->refs[nd->child[0] + k], tmax);
+    return 1;
+}
+
+ALWAYS_INLINE int bvh_any_lone(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
+                               int (*leaf)(void *ctx, uint32_t ref, double tmax),
+                               uint64_t *nodes)
+{
+    const bvh_node *nd = &b->nodes[0];
+    ++*nodes;
+    if (bvh_test_lone(nd, q, tmax))
+        for (uint32_t k = 0; k < nd->count[0]; k++)
+            if (leaf(ctx, b->refs[nd->child[0] + k], tmax))
+                return 1;
+    return 0;
+}
+
+/* Defines name_scalar and name_simd, the same function of (args) built
+** around bvh_test_scalar and bvh_test_simd, and name(), which calls the one
+** bvh_simd says. The body (the last arguments) uses BVH_TEST for the box
+** test. */
+#define BVH_DISPATCH(type, name, params, args, ...)                           \
+    static type name##_scalar params                                          \
+    {                                                                         \
+        unsigned (*const BVH_TEST)(const bvh_node *, const bvh_ray *, double, \
+                                   double *) = bvh_test_scalar;               \
+        __VA_ARGS__                                                           \
+    }                                                                         \
+    BVH_SIMD_TARGET static type name##_simd params                            \
+    {                                                                         \
+        unsigned (*const BVH_TEST)(const bvh_node *, const bvh_ray *, double, \
+                                   double *) = bvh_test_simd;                 \
+        __VA_ARGS__                                                           \
+    }                                                                         \
+    static inline type name params                                            \
+    {                                                                         \
+        return BVH_HAVE_SIMD && bvh_simd ? name##_simd args : name##_scalar args; \
+    }
 
 #endif

@@ -58,7 +58,7 @@ static lc_status list_triangles(lc_scene *s, sig_atomic_t seen, lc_error *err)
 static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
 {
     compiled *c = &s->c;
-    size_t n = c->nflat + c->ninstances;
+    size_t n = c->nflat + c->ninstances + s->ncsgs;
     for (int k = 0; k < LC_SHAPE_KINDS; k++)
         if (shape_bounded((lc_shape_kind)k))
             n += s->shapes[k].n;
@@ -91,6 +91,10 @@ static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
             instance_bounds(s, i, it->lo, it->hi);
             it++;
         }
+    for (size_t i = 0; i < s->ncsgs; i++, it++) {  /* each CSG object one primitive */
+        it->id = PRIM_ID(PRIM_CSG, i);
+        csg_bounds(s->csgs[i], it->lo, it->hi);
+    }
     return bvh_build(&c->bvh, items, n, seen, err);
 }
 
@@ -156,8 +160,13 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     for (int k = 0; k < LC_SHAPE_KINDS; k++)
         for (size_t i = 0; i < s->shapes[k].n; i++)
             used[s->shapes[k].material[i]] = 1;
-    for (size_t i = 0; i < s->nmeshes; i++)
+    for (size_t i = 0; i < s->nmeshes; i++) {
         used[s->meshes[i].material] = 1;
+        for (uint32_t k = 0; k < s->meshes[i].npalette; k++)
+            used[s->meshes[i].palette[k]] = 1;
+    }
+    for (size_t i = 0; i < s->ncsgs; i++)
+        csg_materials(s->csgs[i], used);
     census lit = {0, 0}, spec = {0, 0}, refl = {0, 0}, gloss = {0, 0}, amb = {0, 0},
            inuse = {0, 0}, refr = {0, 0}, filt = {0, 0}, tex = {0, 0};
     for (size_t i = 0; i < s->nmaterials; i++) {

@@ -50,3 +50,25 @@ void error_ok(lc_error *err)
         err->field[0] = err->msg[0] = '\0';
     }
 }
+
+static void put_list(char *out, size_t size, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    put(out, size, fmt, ap);
+    va_end(ap);
+}
+
+lc_status error_prefix(lc_error *err, const char *fmt, ...)
+{
+    if (!err)
+        return LC_EARG;
+    char head[256], old[sizeof err->msg];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(head, sizeof head, fmt, ap);
+    va_end(ap);
+    memcpy(old, err->msg, sizeof old);
+    put_list(err->msg, sizeof err->msg, "%s%s", head, old);
+    return err->code;
+}

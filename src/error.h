@@ -14,5 +14,8 @@
 lc_status error_fail(lc_error *err, lc_status code, const char *field, const char *fmt, ...)
     PRINTF_LIKE(4, 5);
 void error_ok(lc_error *err);
+/* Puts the formatted words before err's message ("node 3: ..."); returns
+** its code (LC_EARG for a NULL err). */
+lc_status error_prefix(lc_error *err, const char *fmt, ...) PRINTF_LIKE(2, 3);
 
 #endif

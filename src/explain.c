@@ -37,6 +37,7 @@ int explain_ray(ray_log *g, int parent, lc_ray_kind kind, const ray *r)
     x->shape_kind = -1;
     x->shape = -1;
     x->material = -1;
+    x->csg = x->csg_node = -1;
     return (int)g->n++;
 }
 
@@ -58,6 +59,8 @@ void explain_hit(ray_log *g, const lc_scene *s, int rec, const hit *h, lc_vec3 n
     x->shape = PRIM_INDEX(h->shape);
     if (PRIM_KIND(h->shape) == PRIM_TRIANGLE)
         x->shape = s->c.tris[x->shape].face;
+    if (PRIM_KIND(h->shape) == PRIM_CSG_FACE || PRIM_KIND(h->shape) == PRIM_CSG_CUT)
+        csg_name_hit(s->csgs[x->shape], h, x);
     x->material = h->material;
 }
 

@@ -19,7 +19,8 @@ typedef struct {
     int      material;
     uint32_t shape;    /* the primitive's id (scene.h: PRIM_ID) */
     uint32_t instance; /* 0, or 1 + the index of the moved mesh hit: its
-                       ** placements share their triangles' ids */
+                       ** placements share their triangles' ids; for a CSG
+                       ** hit 1 + the leaf's node in its description */
 } hit;
 
 /* How far a shadow ray from o goes toward a light `reach` away: short of it

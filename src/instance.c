@@ -253,7 +253,7 @@ static void to_world(const mesh_prim *mp, const mesh_bvh *mb,
                 h->n = v3_neg(h->n);
         }
     }
-    h->material = mp->material;
+    h->material = mesh_face_material(mp, mb->face[k]);
     h->shape = PRIM_ID(PRIM_TRIANGLE, mb->tri_base + k);
 }
 
@@ -296,6 +296,10 @@ static int search_begin(const lc_scene *s, uint32_t i, const ray *r, object_ray 
     return 1;
 }
 
+BVH_DISPATCH(uint64_t, closest_walk,
+             (const bvh *b, const bvh_ray *q, double tmax, face_search *c), (b, q, tmax, c),
+             return bvh_closest(b, q, tmax, c, closest_face, BVH_TEST);)
+
 double instance_hit(const lc_scene *s, uint32_t i, const ray *r, double tmax,
                     hit *h, bvh_counts *counts)
 {
@@ -304,7 +308,7 @@ double instance_hit(const lc_scene *s, uint32_t i, const ray *r, double tmax,
     hit tmp;
     if (!search_begin(s, i, r, &q, &c, h, &tmp))
         return 0;
-    counts->nodes += bvh_closest(&c.mb->bvh, &q.b, tmax, &c, closest_face);
+    counts->nodes += closest_walk(&c.mb->bvh, &q.b, tmax, &c);
     counts->prims += c.np;
     if (c.best == 0)
         return 0;
@@ -320,6 +324,10 @@ static inline int any_face(void *ctx, uint32_t k, double tmax)
     return face_hit(c->mesh, c->mb->face[k], c->q, tmax, c->tmp);
 }
 
+BVH_DISPATCH(int, any_walk,
+             (const bvh *b, const bvh_ray *q, double tmax, face_search *c, uint64_t *nodes),
+             (b, q, tmax, c, nodes), return bvh_any(b, q, tmax, c, any_face, nodes, BVH_TEST);)
+
 int instance_occluded(const lc_scene *s, uint32_t i, const ray *r, double tmax,
                       bvh_counts *counts)
 {
@@ -328,7 +336,7 @@ int instance_occluded(const lc_scene *s, uint32_t i, const ray *r, double tmax,
     hit tmp;
     if (!search_begin(s, i, r, &q, &c, NULL, &tmp))
         return 0;
-    int found = bvh_any(&c.mb->bvh, &q.b, tmax, &c, any_face, &counts->nodes);
+    int found = any_walk(&c.mb->bvh, &q.b, tmax, &c, &counts->nodes);
     counts->prims += c.np;
     return found;
 }

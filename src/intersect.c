@@ -27,7 +27,7 @@ static void query_init(query *q, const ray *r, int triangles)
 ** boxes and planes compute the distance only (the nearest is finished
 ** later); quads and triangles need most of the work anyway to know they
 ** are hit, so they fill *full as they go. */
-static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, double tmax,
+ALWAYS_INLINE double prim_t(const lc_scene *s, uint32_t id, const query *q, double tmax,
                      hit *full, bvh_counts *inner)
 {
     uint32_t i = PRIM_INDEX(id);
@@ -51,11 +51,13 @@ static inline double prim_t(const lc_scene *s, uint32_t id, const query *q, doub
         if (!triangle_hit(v + 3 * (size_t)f[0], v + 3 * (size_t)f[1], v + 3 * (size_t)f[2],
                      q->r, &q->sh, 0, tmax, full, full->bary))
             return 0;
-        full->material = mp->material;
+        full->material = mesh_face_material(mp, tr->face);
         break;
     }
     case PRIM_INSTANCE:           /* a moved mesh: its own BVH, in its own space */
         return instance_hit(s, i, q->r, tmax, full, inner);
+    case PRIM_CSG:                /* a CSG object: the interval sweep, hit complete */
+        return csg_hit(s->csgs[i], i, q->r, &q->b, tmax, full, inner);
     case PRIM_DISC:
         return disc_t(PLACED(s, LC_DISC) + i, q->r, 0, tmax);
     case PRIM_CYLINDER:
@@ -174,8 +176,12 @@ typedef struct {
     uint32_t best_id;
     hit  *h, *tmp;       /* the nearest quad or triangle found; scratch */
     uint64_t np;            /* primitive tests */
-    bvh_counts *inner;       /* inside instances */
+    bvh_counts *inner;       /* inside instances and CSG objects: the caller's */
 } closest;
+
+/* The kinds prim_t leaves complete, in *full. */
+#define COMPLETE ((1u << PRIM_QUAD) | (1u << PRIM_TRIANGLE) | (1u << PRIM_INSTANCE) | \
+                  (1u << PRIM_CSG))
 
 /* Ties in t go to the lower id, whatever order the BVH visits them in. */
 static inline double closest_leaf(void *ctx, uint32_t id, double tmax)
@@ -186,24 +192,27 @@ static inline double closest_leaf(void *ctx, uint32_t id, double tmax)
     if (t > 0 && (c->best == 0 || t < c->best || (t == c->best && id < c->best_id))) {
         c->best = t;
         c->best_id = id;
-        if (PRIM_KIND(id) == PRIM_QUAD || PRIM_KIND(id) == PRIM_TRIANGLE ||
-            PRIM_KIND(id) == PRIM_INSTANCE)
+        if ((COMPLETE >> PRIM_KIND(id)) & 1)
             *c->h = *c->tmp;
         tmax = next_up(t);
     }
     return tmax;
 }
 
+BVH_DISPATCH(uint64_t, closest_walk,
+             (const bvh *b, const bvh_ray *q, double tmax, closest *c), (b, q, tmax, c),
+             return bvh_closest(b, q, tmax, c, closest_leaf, BVH_TEST);)
+
 int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
                     bvh_counts *counts)
 {
-    bvh_counts inner = {0, 0};
+    bvh_counts spare;      /* nested searches count into counts, or here */
     hit tmp;
     query q;
     query_init(&q, r, s->c.nflat > 0);
     const plane_geom *planes = PLANES(s);
     size_t nplanes = s->shapes[LC_PLANE].n;
-    closest c = {s, &q, 0, 0, h, &tmp, nplanes, &inner};
+    closest c = {s, &q, 0, 0, h, &tmp, nplanes, counts ? counts : &spare};
     for (size_t i = 0; i < nplanes; i++) {      /* planes first: they bound tmax */
         double t = plane_t(planes + i, q.r, q.b.inv, 0, tmax);
         if (t > 0 && (c.best == 0 || t < c.best)) {   /* in id order: a tie keeps the first */
@@ -212,10 +221,12 @@ int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
             tmax = next_up(t);
         }
     }
-    uint64_t nn = bvh_closest(&s->c.bvh, &q.b, tmax, &c, closest_leaf);
+    uint64_t nn = bvh_lone_leaf(&s->c.bvh) ? bvh_closest_lone(&s->c.bvh, &q.b, tmax, &c,
+                                                              closest_leaf)
+                                           : closest_walk(&s->c.bvh, &q.b, tmax, &c);
     if (counts) {
-        counts->prims += c.np + inner.prims;
-        counts->nodes += nn + inner.nodes;
+        counts->prims += c.np;
+        counts->nodes += nn;
     }
     if (c.best == 0 || !prim_finish(s, c.best_id, &q, c.best, h))
         return 0;
@@ -231,7 +242,22 @@ typedef struct {
     uint32_t skip;
     hit  *tmp;
     uint64_t np, nn;
+    bvh_counts *inner;      /* what CSG objects' sweeps test */
 } any;
+
+/* The kinds with a search of their own inside: a moved mesh, a CSG object. */
+#define NESTED ((1u << PRIM_INSTANCE) | (1u << PRIM_CSG))
+
+static int any_nested(any *a, uint32_t id, double tmax)
+{
+    if (PRIM_KIND(id) == PRIM_CSG)
+        return csg_occluded(a->s->csgs[PRIM_INDEX(id)], a->r, &a->q->b, tmax, a->inner);
+    bvh_counts inner = {0, 0, 0};
+    int found = instance_occluded(a->s, PRIM_INDEX(id), a->r, tmax, &inner);
+    a->np += inner.prims;
+    a->nn += inner.nodes;
+    return found;
+}
 
 static inline int any_leaf(void *ctx, uint32_t id, double tmax)
 {
@@ -239,19 +265,17 @@ static inline int any_leaf(void *ctx, uint32_t id, double tmax)
     if (id == a->skip)
         return 0;
     ++a->np;
-    if (PRIM_KIND(id) == PRIM_INSTANCE) {
-        bvh_counts inner = {0, 0};
-        int found = instance_occluded(a->s, PRIM_INDEX(id), a->r, tmax, &inner);
-        a->np += inner.prims;
-        a->nn += inner.nodes;
-        return found;
-    }
-    return prim_t(a->s, id, a->q, tmax, a->tmp, NULL) > 0;   /* not an instance */
+    if ((NESTED >> PRIM_KIND(id)) & 1)
+        return any_nested(a, id, tmax);
+    return prim_t(a->s, id, a->q, tmax, a->tmp, NULL) > 0;   /* not nested */
 }
+
+BVH_DISPATCH(int, any_walk, (const bvh *b, const bvh_ray *q, double tmax, any *a),
+             (b, q, tmax, a), return bvh_any(b, q, tmax, a, any_leaf, &a->nn, BVH_TEST);)
 
 /* Any hit: the first primitive found in (0, tmax) ends the search. */
 static int occluded(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
-                    uint64_t *np, uint64_t *nn)
+                    uint64_t *np, uint64_t *nn, bvh_counts *inner)
 {
     query q;
     query_init(&q, r, s->c.nflat > 0);
@@ -264,8 +288,10 @@ static int occluded(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
         }
     *np += nplanes;
     hit tmp;
-    any a = {s, &q, r, skip, &tmp, 0, 0};
-    int found = bvh_any(&s->c.bvh, &q.b, tmax, &a, any_leaf, &a.nn);
+    any a = {s, &q, r, skip, &tmp, 0, 0, inner};
+    int found = bvh_lone_leaf(&s->c.bvh) ? bvh_any_lone(&s->c.bvh, &q.b, tmax, &a, any_leaf,
+                                                        &a.nn)
+                                         : any_walk(&s->c.bvh, &q.b, tmax, &a);
     *np += a.np;
     *nn += a.nn;
     return found;
@@ -280,7 +306,8 @@ int intersect_occluded_skip(const lc_scene *s, const ray *r, double tmax, uint32
                         bvh_counts *counts)
 {
     uint64_t np = 0, nn = 0;
-    int found = occluded(s, r, tmax, skip, &np, &nn);
+    bvh_counts spare;                 /* CSG sweeps count into it when counts is NULL */
+    int found = occluded(s, r, tmax, skip, &np, &nn, counts ? counts : &spare);
     if (counts) {
         counts->prims += np;
         counts->nodes += nn;

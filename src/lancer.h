@@ -184,6 +184,40 @@ lc_status lc_mesh_add_uvs(lc_mesh *m, const double *uv, size_t n, lc_error *err)
 lc_status lc_mesh_add_faces(lc_mesh *m, const uint32_t *abc, size_t n, lc_error *err);
 size_t    lc_mesh_vertex_count(const lc_mesh *m);
 size_t    lc_mesh_face_count(const lc_mesh *m);
+/* Material slots, one per face in the order faces were added (faces past
+** the last slot given take slot 0); a scene maps each slot to a material
+** (lc_scene_add_mesh_materials). 1 + the largest slot is
+** lc_mesh_material_slots (0: none given). */
+#define LC_MAX_SLOTS 65536
+lc_status lc_mesh_add_face_materials(lc_mesh *m, const uint32_t *slots, size_t n,
+                                     lc_error *err);
+size_t    lc_mesh_material_slots(const lc_mesh *m);
+/* From an OBJ file: slot k's usemtl name (NULL if none), and the mtllib
+** files it named, resolved against the OBJ's folder. */
+const char *lc_mesh_slot_name(const lc_mesh *m, size_t slot);
+size_t      lc_mesh_mtllib_count(const lc_mesh *m);
+const char *lc_mesh_mtllib(const lc_mesh *m, size_t i);
+/* A material of a Wavefront .mtl library, as the file says it. */
+#define LC_MTL_PATH 1024
+typedef struct {
+    char     name[256];
+    lc_color kd, ks, ka, ke;   /* Kd (0.8 grey when absent), Ks, Ka, Ke (black) */
+    double   ns;               /* Ns: the Phong exponent */
+    double   d;                /* d, or 1 - Tr: opacity (1) */
+    double   ni;               /* Ni: index of refraction (1) */
+    int      illum;            /* illum, -1 when absent */
+    char     map_kd[LC_MTL_PATH];   /* map_Kd's file, beside the .mtl ("" none) */
+    char     map_bump[LC_MTL_PATH]; /* map_Bump or bump ("" none) */
+    double   bump_mult;        /* its -bm option (1) */
+} lc_mtl;
+
+/* Reads newmtl, Kd, Ks, Ka, Ke, Ns, Ni, d, Tr, illum, map_Kd and
+** map_Bump/bump; skips the rest; errors name the file and the line.
+** *materials is malloc'd: free() it. */
+lc_status   lc_mtl_load(const char *path, lc_mtl **materials, size_t *n, lc_error *err);
+/* The lancer material a .mtl material maps to (docs/manual.md, "OBJ
+** materials"); its textures are the caller's to add. */
+lc_material lc_mtl_material(const lc_mtl *m);
 /* What the mesh holds, valid until it grows or is freed: 3 doubles per
 ** vertex; 3 vertex indices (0-based) per face. */
 const double   *lc_mesh_vertex_data(const lc_mesh *m);
@@ -366,6 +400,11 @@ int       lc_scene_add_texture(lc_scene *s, const lc_texture *t, lc_error *err);
 int       lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material,
                              lc_error *err);            /* id >= 0, or -1 */
 int       lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err);
+/* The mesh (moved by t, or as it is when t is NULL) with face material slot
+** k taking the scene's material materials[k]: n must cover every slot the
+** mesh has (n >= 1; a face without a slot takes materials[0]). */
+int       lc_scene_add_mesh_materials(lc_scene *s, lc_mesh *m, const lc_transform *t,
+                                      const int *materials, size_t n, lc_error *err);
 /* The mesh moved by t, as an instance: however many times a mesh is added
 ** this way, its faces and their BVH are stored once. (The identity adds it
 ** as lc_scene_add_mesh does: its triangles join the scene's own BVH.) */
@@ -380,15 +419,63 @@ int       lc_scene_add_directional_light(lc_scene *s, const lc_directional_light
 ** materials' absorption over scale: an exact renderer draws the same picture. */
 lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 offset,
                                lc_error *err);
-size_t    lc_scene_shape_count(const lc_scene *s);     /* shapes and meshes */
+size_t    lc_scene_shape_count(const lc_scene *s);     /* shapes, meshes and CSG */
 size_t    lc_scene_light_count(const lc_scene *s);  /* point, spot, directional */
+
+/* ---- Constructive solid geometry -------------------------------------------- */
+
+/* A CSG object is a tree of closed solids, described flat in prefix order:
+** an operation is followed by its `count` operands, each a whole subtree,
+** and nodes[0] is the root. Leaves are closed solids: spheres, boxes,
+** ellipsoids, tori, cylinders and cones with caps, and closed meshes (every
+** edge shared by exactly two faces that run it opposite ways; the enclosed
+** volume's sign says which side is out). A ray meets the object where the
+** tree's set, evaluated on the leaves' insides along the ray, changes;
+** crossings of different leaves within each other's rounding count as one
+** event, so coincident faces leave no film. Each surface keeps its leaf's
+** material; faces a difference cuts take the cutter's, or the first
+** operand's with cut_object. A CSG object never lights others (its
+** emissive leaves glow). Meshes are shaded flat. */
+typedef enum {
+    LC_CSG_SHAPE,          /* a leaf: `shape`, `material` */
+    LC_CSG_MESH,           /* a leaf: `mesh` placed by `transform`, `material` */
+    LC_CSG_UNION,          /* the set union; at the root (and in unions there) a
+                           ** group: every operand's own surfaces are drawn */
+    LC_CSG_INTERSECTION,   /* the set intersection */
+    LC_CSG_DIFFERENCE,     /* the first operand minus the others */
+    LC_CSG_MERGE,          /* the set union, drawn by its boundary alone */
+    LC_CSG_OPS
+} lc_csg_op;
+
+typedef struct {
+    lc_csg_op    op;
+    int          count;       /* operations: the number of operands, >= 1 */
+    int          cut_object;  /* differences: 1 gives the faces the others cut the
+                              ** first operand's material; 0 the cutter's own */
+    int          material;    /* leaves: a material index of the scene */
+    lc_shape     shape;       /* LC_CSG_SHAPE */
+    lc_mesh     *mesh;        /* LC_CSG_MESH: borrowed; a scene keeps its own hold */
+    lc_transform transform;   /* LC_CSG_MESH: object to world (the identity: as is) */
+} lc_csg_node;
+
+#define LC_CSG_MAX_NODES 65536
+
+const char *lc_csg_op_name(lc_csg_op op);           /* "shape", "mesh", "union", ... */
+/* The tree's structure and its leaves, without a scene: shapes valid and
+** closed, meshes closed (naming the first open edge), transforms invertible.
+** The message names the node ("node 3: a plane is not a closed solid"). */
+lc_status lc_csg_check(const lc_csg_node *nodes, size_t n, lc_error *err);
+/* Adds the CSG object (its meshes with the faces they have now); returns
+** its id, or -1. */
+int       lc_scene_add_csg(lc_scene *s, const lc_csg_node *nodes, size_t n,
+                           lc_error *err);
 
 /* ---- Scene objects: listing and removing ------------------------------------ */
 
 /* Every lc_scene_add_* (shape, mesh or light) returns the next id: 0, 1, 2...
 ** An id names its object until it is removed, and is never given again. */
 typedef enum {
-    LC_OBJECT_SHAPE, LC_OBJECT_MESH, LC_OBJECT_LIGHT, LC_OBJECT_SPOT_LIGHT,
+    LC_OBJECT_SHAPE, LC_OBJECT_MESH, LC_OBJECT_LIGHT, LC_OBJECT_CSG, LC_OBJECT_SPOT_LIGHT,
     LC_OBJECT_DIRECTIONAL_LIGHT
 } lc_object_kind;
 
@@ -403,6 +490,10 @@ typedef struct {
     lc_point_light light;      /* point lights */
     lc_spot_light  spot;       /* spot lights */
     lc_directional_light sun;  /* directional lights */
+    const lc_csg_node *csg;    /* CSG objects: the description as stored (shapes as
+                               ** lc_shape_stored gives them); borrowed until the
+                               ** scene changes */
+    size_t         csg_nodes;  /* its length */
 } lc_object;
 
 size_t    lc_scene_object_count(const lc_scene *s);
@@ -546,12 +637,15 @@ typedef struct {
     unsigned needs;              /* LC_NEED_* bits */
     int      threads;
     size_t   bvh_nodes;          /* nodes of the hierarchy over bounded shapes */
-    size_t   primitives;         /* shapes plus mesh triangles, as traced */
+    size_t   primitives;         /* shapes plus mesh triangles (a CSG object
+                                 ** counts one), as traced */
     size_t   degenerate;         /* zero-area triangles skipped */
     uint64_t self_hits;          /* rays that hit the surface they left (not into it):
                                  ** 0 unless the geometry code has a bug */
     uint64_t prim_tests;         /* ray/primitive intersection tests */
     uint64_t node_tests;         /* ray/BVH node tests */
+    uint64_t csg_tests;          /* the CSG sweeps' leaf tests: each search for a
+                                 ** leaf's next crossing, each triangle of a mesh leaf */
     char     why[LC_NEEDS][160]; /* for each effect, why it is on or off */
     char     warning[160];       /* empty, or why the picture is likely not what was
                                  ** meant (no light at all; every pixel black) */
@@ -581,6 +675,10 @@ typedef struct {
     long         shape;         /* index among the shapes of that kind, in the order
                                 ** added (triangles: among all meshes' faces) */
     int          material;      /* index of its material in the scene, 0-based */
+    int          csg;           /* a CSG object's surface: its index among the scene's
+                                ** CSG objects (shape_kind is the leaf's kind, shape
+                                ** -1); else -1 */
+    int          csg_node;      /* that leaf's index in the CSG's description */
     int          light_kind;    /* shadow rays: LC_LIGHT_POINT, ... */
     int          light;         /* shadow rays: the point light's index, 0-based, or
                                 ** -1 - n for the emissive shape n (0-based) */

@@ -63,8 +63,14 @@ static void push_node(lua_State *L, const lc_ray_record *x)
         set_raw(L, "point");
         lf_push_vec3(L, x->normal);
         set_raw(L, "normal");
-        lua_pushfstring(L, "%s %d", lc_shape_kind_name((lc_shape_kind)x->shape_kind),
-                        (int)x->shape + 1);
+        if (x->csg >= 0)                 /* the leaf of a CSG object */
+            lua_pushfstring(L, "%s (node %d of CSG object %d)",
+                            x->shape_kind == LC_SHAPE_KINDS ? "mesh" :
+                            lc_shape_kind_name((lc_shape_kind)x->shape_kind),
+                            x->csg_node + 1, x->csg + 1);
+        else
+            lua_pushfstring(L, "%s %d", lc_shape_kind_name((lc_shape_kind)x->shape_kind),
+                            (int)x->shape + 1);
         set_raw(L, "shape");
         lua_pushinteger(L, x->material + 1);
         set_raw(L, "material");

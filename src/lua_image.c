@@ -130,7 +130,7 @@ static int w_load_hdr(lua_State *L)
     return 1;
 }
 
-/* lancer.merge(out, {part, ...}): the parts of one frame as the whole. */
+/* lancer.merge_tiles(out, {part, ...}): the parts of one frame as the whole. */
 static int w_merge(lua_State *L)
 {
     luaL_checktype(L, 1, LUA_TSTRING);
@@ -364,7 +364,7 @@ void image_register(lua_State *L)
     lua_pushcfunction(L, w_load_hdr);
     lua_setfield(L, -2, "load_hdr");
     lua_pushcfunction(L, w_merge);
-    lua_setfield(L, -2, "merge");
+    lua_setfield(L, -2, "merge_tiles");
     lua_pushcfunction(L, w_image);
     lua_setfield(L, -2, "image");
 }

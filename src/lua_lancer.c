@@ -40,6 +40,22 @@ typedef struct {
 
 static const char account_key = 'a';      /* registry[&account_key]: a gc_account */
 
+void lancer_check_file(lua_State *L, int arg, const char *path, int writing)
+{
+    if (lua_getfield(L, LUA_REGISTRYINDEX, LANCER_FILE_GATE) != LUA_TFUNCTION) {
+        lua_pop(L, 1);
+        return;
+    }
+    lua_pushstring(L, path);
+    lua_pushboolean(L, writing);
+    lua_call(L, 2, 2);
+    if (!lua_toboolean(L, -2)) {
+        const char *why = lua_tostring(L, -1);
+        luaL_argerror(L, arg, why ? why : "the host refused the file");
+    }
+    lua_pop(L, 2);
+}
+
 void lancer_charge(lua_State *L)
 {
     lua_rawgetp(L, LUA_REGISTRYINDEX, &account_key);
@@ -81,6 +97,7 @@ int luaopen_lancer_core(lua_State *L)
     scene_objects_register(L);
     query_register(L);
     texture_register(L);
+    csg_lua_register(L);
     hook_register(L);
     lua_pushstring(L, LC_VERSION);
     lua_setfield(L, -2, "version");

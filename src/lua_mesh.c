@@ -1,4 +1,5 @@
 /* lua_mesh.c: triangle meshes: lancer.mesh, lancer.triangle, lancer.load_obj. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -141,22 +142,54 @@ static uint32_t face_index(lua_State *L, int arg, const char *field, lua_Integer
 ** ...} (polygons become fans) or flat {a, b, c, a, b, c, ...}; indices
 ** start at 1, as Lua's do. The mesh is fetched for each chunk, as in
 ** read_points. */
-static void read_faces(lua_State *L, int arg, int list, int mi, const char *field)
+/* Face i's material slot from the list at `slots` (0: none): 1-based in
+** Lua, at most `nmat`. */
+static uint32_t face_slot(lua_State *L, int arg, int slots, lua_Integer i, lua_Integer nmat)
 {
-    uint32_t buf[3 * CHUNK];
-    size_t nb = 0;
+    if (!slots)
+        return 0;
+    int isint;
+    lua_geti(L, slots, i);
+    lua_Integer k = lua_tointegerx(L, -1, &isint);
+    if (!isint || k < 1 || k > nmat)
+        lf_error(L, arg, "face_materials", "face %lld: an index into materials (1..%lld) "
+                 "expected, got %s", (long long)i, (long long)nmat, luaL_tolstring(L, -1, NULL));
+    lua_pop(L, 1);
+    return (uint32_t)(k - 1);
+}
+
+/* Adds the faces in buf and, with slots, their slots. */
+static void flush_faces(lua_State *L, int arg, int mi, const char *field, const uint32_t *buf,
+                        const uint32_t *sb, size_t nb, int slots)
+{
     lc_error err;
+    if (lc_mesh_add_faces(check_mesh(L, mi), buf, nb, &err))
+        lf_error(L, arg, field, "%s", err.msg);
+    if (slots && lc_mesh_add_face_materials(check_mesh(L, mi), sb, nb, &err))
+        lf_error(L, arg, "face_materials", "%s", err.msg);
+}
+
+static void read_faces(lua_State *L, int arg, int list, int mi, const char *field, int slots,
+                       lua_Integer nmat)
+{
+    uint32_t buf[3 * CHUNK], sb[CHUNK];
+    size_t nb = 0;
     int flat;
     list = lua_absindex(L, list);
     mi = lua_absindex(L, mi);
     lua_Integer count = list_count(L, arg, list, field, "faces", 3, &flat);
+    if (slots && (lua_Integer)luaL_len(L, slots) != count)
+        lf_error(L, arg, "face_materials", "%lld entries for %lld faces",
+                 (long long)luaL_len(L, slots), (long long)count);
     size_t nv = lc_mesh_vertex_count(check_mesh(L, mi));
     for (lua_Integer i = 1; i <= count; i++) {
+        uint32_t slot = face_slot(L, arg, slots, i, nmat);
         if (flat) {
             for (int k = 0; k < 3; k++) {
                 lua_geti(L, list, 3 * (i - 1) + k + 1);
                 buf[3 * nb + k] = face_index(L, arg, field, i, nv);
             }
+            sb[nb] = slot;
             nb++;
         } else {
             if (lua_geti(L, list, i) != LUA_TTABLE)
@@ -177,10 +210,10 @@ static void read_faces(lua_State *L, int arg, int list, int mi, const char *fiel
                 buf[3 * nb] = first;
                 buf[3 * nb + 1] = prev;
                 buf[3 * nb + 2] = cur;
+                sb[nb] = slot;
                 prev = cur;
                 if (++nb == CHUNK) {
-                    if (lc_mesh_add_faces(check_mesh(L, mi), buf, nb, &err))
-                        lf_error(L, arg, field, "%s", err.msg);
+                    flush_faces(L, arg, mi, field, buf, sb, nb, slots);
                     nb = 0;
                 }
             }
@@ -188,13 +221,34 @@ static void read_faces(lua_State *L, int arg, int list, int mi, const char *fiel
             continue;
         }
         if (nb == CHUNK) {
-            if (lc_mesh_add_faces(check_mesh(L, mi), buf, nb, &err))
-                lf_error(L, arg, field, "%s", err.msg);
+            flush_faces(L, arg, mi, field, buf, sb, nb, slots);
             nb = 0;
         }
     }
-    if (nb && lc_mesh_add_faces(check_mesh(L, mi), buf, nb, &err))
-        lf_error(L, arg, field, "%s", err.msg);
+    if (nb)
+        flush_faces(L, arg, mi, field, buf, sb, nb, slots);
+}
+
+/* The mesh at mi takes the materials list at `list` as its face slots'. */
+static lua_Integer set_palette(lua_State *L, int arg, int list, int mi)
+{
+    list = lua_absindex(L, list);
+    if (lua_type(L, list) != LUA_TTABLE)
+        lf_error(L, arg, "materials", "table of materials expected, got %s",
+                 luaL_typename(L, list));
+    lua_Integer n = luaL_len(L, list);
+    if (n < 1 || n > 4096)
+        lf_error(L, arg, "materials", "1 to 4096 materials expected, got %lld", (long long)n);
+    lua_createtable(L, (int)n, 0);
+    for (lua_Integer k = 1; k <= n; k++) {
+        lua_geti(L, list, k);
+        if (!luaL_testudata(L, -1, MATERIAL))
+            lf_error(L, arg, "materials", "entry %lld: lancer.Material expected, got %s",
+                     (long long)k, luaL_typename(L, -1));
+        lua_rawseti(L, -2, k);
+    }
+    lua_setiuservalue(L, mi, 2);
+    return n;
 }
 
 /* Pushes an empty mesh userdata (before the core mesh, so nothing leaks if
@@ -202,7 +256,7 @@ static void read_faces(lua_State *L, int arg, int list, int mi, const char *fiel
 static lc_mesh *push_mesh(lua_State *L, int mat)
 {
     mat = lua_absindex(L, mat);
-    ud_mesh *u = lua_newuserdatauv(L, sizeof *u, 1);
+    ud_mesh *u = lua_newuserdatauv(L, sizeof *u, 2);
     u->m = NULL;
     luaL_setmetatable(L, MESH);
     lua_pushvalue(L, mat);
@@ -217,7 +271,7 @@ static lc_mesh *push_mesh(lua_State *L, int mat)
 static int w_mesh(lua_State *L)
 {
     static const char *const known[] = {"vertices", "faces", "normals", "uvs", "material",
-                                        NULL};
+                                        "materials", "face_materials", NULL};
     if (lua_isnoneornil(L, 1)) {
         lua_settop(L, 0);
         lua_newtable(L);
@@ -236,8 +290,23 @@ static int w_mesh(lua_State *L)
     if (lua_getfield(L, 1, "uvs") != LUA_TNIL)
         read_points(L, 1, -1, top, UVS, "uvs");
     lua_settop(L, top);
+    lua_Integer nmat = 0;
+    if (lua_getfield(L, 1, "materials") != LUA_TNIL)
+        nmat = set_palette(L, 1, -1, top);
+    lua_settop(L, top);
+    int slots = 0;
+    if (lua_getfield(L, 1, "face_materials") != LUA_TNIL) {
+        if (!nmat)
+            return lf_error(L, 1, "face_materials", "needs 'materials' to index");
+        if (lua_type(L, -1) != LUA_TTABLE)
+            return lf_error(L, 1, "face_materials", "table of indices expected, got %s",
+                            luaL_typename(L, -1));
+        slots = lua_gettop(L);
+    }
     if (lua_getfield(L, 1, "faces") != LUA_TNIL)
-        read_faces(L, 1, -1, top, "faces");
+        read_faces(L, 1, -1, top, "faces", slots, nmat);
+    else if (slots)
+        return lf_error(L, 1, "face_materials", "given without 'faces'");
     lua_settop(L, top);
     lancer_charge(L);
     return 1;
@@ -268,20 +337,156 @@ static int w_triangle(lua_State *L)
     return 1;
 }
 
+/* Pushes the material a .mtl record maps to, with its textures: a map_Kd
+** for the colour, a bump map (when `textures`). */
+static void push_mtl_material(lua_State *L, const lc_mtl *t, int textures, const char *obj,
+                              int warnings)
+{
+    lc_material m = lc_mtl_material(t);
+    if (t->map_bump[0] && textures)
+        m.bump = 0.02 * t->bump_mult;
+    objects_push_material(L, &m);
+    if (!textures)
+        return;
+    int mat = lua_gettop(L);
+    lua_getiuservalue(L, mat, 1);
+    const char *files[2] = {t->map_kd, t->map_bump}, *slot[2] = {"color", "bump"};
+    const char *kind[2] = {"map_Kd", "bump map"};
+    for (int k = 0; k < 2; k++) {
+        if (!files[k][0])
+            continue;
+        char what[LC_MTL_PATH + 300];
+        snprintf(what, sizeof what, "'%s': material '%s': %s", obj, t->name, kind[k]);
+        lancer_check_file(L, 1, files[k], 0);
+        FILE *fp = fopen(files[k], "rb");
+        if (!fp) {                           /* not there: noted, the colour stays */
+            lua_pushfstring(L, "%s '%s' cannot be opened: %s", what, files[k],
+                            strerror(errno));
+            lua_rawseti(L, warnings, (lua_Integer)lua_rawlen(L, warnings) + 1);
+            if (k == 1)
+                ((ud_material *)lua_touserdata(L, mat))->m.bump = 0;
+            continue;
+        }
+        fclose(fp);
+        texture_push_png(L, files[k], what);     /* there but unreadable: an error */
+        lua_setfield(L, -2, slot[k]);
+    }
+    lua_pop(L, 1);
+}
+
+/* The .mtl libraries an OBJ names, copied into one userdata pushed (so an
+** error later leaks nothing): its records and their count. */
+static const lc_mtl *push_libraries(lua_State *L, const lc_mesh *m, const char *path,
+                                    size_t *n, int warnings)
+{
+    size_t nlibs = lc_mesh_mtllib_count(m), total = 0;
+    lc_mtl *part[64];
+    size_t count[64];
+    if (nlibs > 64)
+        luaL_error(L, "'%s': more than 64 mtllib files", path);
+    for (size_t l = 0; l < nlibs; l++)      /* all first: a refusal raises, and leaks */
+        lancer_check_file(L, 1, lc_mesh_mtllib(m, l), 0);
+    for (size_t l = 0; l < nlibs; l++) {
+        lc_error err;
+        if (lc_mtl_load(lc_mesh_mtllib(m, l), &part[l], &count[l], &err)) {
+            if (err.code == LC_EIO && strncmp(err.msg, "cannot open", 11) == 0) {
+                /* Not there (OBJ files often travel without theirs): noted. */
+                part[l] = NULL;
+                count[l] = 0;
+                lua_pushfstring(L, "'%s': mtllib %s", path, err.msg);
+                lua_rawseti(L, warnings, (lua_Integer)lua_rawlen(L, warnings) + 1);
+                continue;
+            }
+            for (size_t k = 0; k < l; k++)
+                free(part[k]);
+            luaL_error(L, "'%s': mtllib %s", path, err.msg);
+        }
+        total += count[l];
+    }
+    lc_mtl *all = lua_newuserdatauv(L, (total ? total : 1) * sizeof *all, 0);
+    *n = 0;
+    for (size_t l = 0; l < nlibs; l++) {
+        if (count[l])                   /* a library not there has none, and no list */
+            memcpy(all + *n, part[l], count[l] * sizeof *all);
+        *n += count[l];
+        free(part[l]);
+    }
+    return all;
+}
+
+static const lc_mtl *mtl_find(const lc_mtl *all, size_t n, const char *name)
+{
+    for (size_t i = n; i-- > 0;)               /* a later library's wins */
+        if (strcmp(all[i].name, name) == 0)
+            return &all[i];
+    return NULL;
+}
+
+/* The OBJ's face slots take their materials: `materials` (by name) first,
+** then its .mtl libraries; a slot with no name, or a name found nowhere,
+** takes the mesh's own. */
+static void obj_palette(lua_State *L, int mesh, int opts, int textures, const char *path)
+{
+    size_t nslots = lc_mesh_material_slots(check_mesh(L, mesh)), nmtl;
+    if (nslots == 0)
+        return;
+    if (nslots > 4096)
+        luaL_error(L, "'%s': %zu materials, past lancer's 4096 for one OBJ", path, nslots);
+    lua_newtable(L);
+    int warnings = lua_gettop(L);
+    lua_pushvalue(L, warnings);
+    lua_setiuservalue(L, mesh, 3);
+    const lc_mtl *all = push_libraries(L, check_mesh(L, mesh), path, &nmtl, warnings);
+    lua_createtable(L, (int)nslots, 0);
+    int pal = lua_gettop(L);
+    for (size_t k = 0; k < nslots; k++) {
+        const char *name = lc_mesh_slot_name(check_mesh(L, mesh), k);
+        const lc_mtl *t = name ? mtl_find(all, nmtl, name) : NULL;
+        int given = name && opts && lua_getfield(L, opts, "materials") == LUA_TTABLE &&
+                    lua_getfield(L, -1, name) != LUA_TNIL;
+        if (given && !luaL_testudata(L, -1, MATERIAL))
+            lf_error(L, 2, "materials", "'%s': lancer.Material expected, got %s", name,
+                     luaL_typename(L, -1));
+        if (given) {
+            lua_replace(L, pal + 1);
+            lua_settop(L, pal + 1);
+        } else {
+            lua_settop(L, pal);
+            if (t)
+                push_mtl_material(L, t, textures, path, warnings);
+            else
+                lua_pushboolean(L, 0);
+        }
+        lua_rawseti(L, pal, (lua_Integer)k + 1);
+    }
+    lua_setiuservalue(L, mesh, 2);
+    lua_pop(L, 2);                             /* the libraries, the warnings */
+}
+
 static int w_load_obj(lua_State *L)
 {
-    static const char *const known[] = {"material", NULL};
+    static const char *const known[] = {"material", "materials", "textures", NULL};
     const char *path = luaL_checkstring(L, 1);
+    int opts = 0, textures = 1;
     if (!lua_isnoneornil(L, 2)) {
         lf_open(L, 2, known);
+        opts = 2;
+        textures = lf_boolean(L, 2, "textures", 1);
+        lua_getfield(L, 2, "materials");
+        if (!lua_isnil(L, -1) && !lua_istable(L, -1))
+            return lf_error(L, 2, "materials", "table from material name to lancer.Material "
+                            "expected, got %s", luaL_typename(L, -1));
+        lua_pop(L, 1);
         lf_udata(L, 2, "material", MATERIAL, 0);
     } else {
         lua_settop(L, 1);
         lua_pushnil(L);
+        lua_pushnil(L);
     }
-    ud_mesh *u = lua_newuserdatauv(L, sizeof *u, 1);
+    ud_mesh *u = lua_newuserdatauv(L, sizeof *u, 3);
     u->m = NULL;
     luaL_setmetatable(L, MESH);
+    int mesh = lua_gettop(L);
     lua_pushvalue(L, -2);
     lua_setiuservalue(L, -2, 1);
     lc_error err;
@@ -289,6 +494,8 @@ static int w_load_obj(lua_State *L)
     if (!u->m)
         return luaL_argerror(L, 1, err.msg);     /* names 'load_obj', the file, the line */
     lancer_charge(L);
+    obj_palette(L, mesh, opts, textures, path);
+    lua_settop(L, mesh);
     return 1;
 }
 
@@ -320,7 +527,7 @@ static int w_mesh_add_uvs(lua_State *L)
 static int w_mesh_add_faces(lua_State *L)
 {
     check_mesh(L, 1);
-    read_faces(L, 2, 2, 1, "faces");
+    read_faces(L, 2, 2, 1, "faces", 0, 0);
     lua_pushinteger(L, (lua_Integer)lc_mesh_face_count(check_mesh(L, 1)));
     lancer_charge(L);
     return 1;
@@ -354,6 +561,34 @@ static int w_mesh_index(lua_State *L)
         lua_pushinteger(L, (lua_Integer)lc_mesh_face_count(check_mesh(L, 1)));
     } else if (strcmp(k, "material") == 0) {
         lua_getiuservalue(L, 1, 1);
+    } else if (strcmp(k, "materials") == 0) {          /* a copy: the mesh keeps its own */
+        lua_newtable(L);
+        if (lua_getiuservalue(L, 1, 2) == LUA_TTABLE)
+            for (lua_Integer i = 1; i <= (lua_Integer)lua_rawlen(L, -1); i++) {
+                lua_rawgeti(L, -1, i);
+                lua_rawseti(L, -3, i);
+            }
+        lua_pop(L, 1);
+    } else if (strcmp(k, "warnings") == 0) {           /* what load_obj had to leave out */
+        lua_newtable(L);
+        if (lua_getiuservalue(L, 1, 3) == LUA_TTABLE)
+            for (lua_Integer i = 1; i <= (lua_Integer)lua_rawlen(L, -1); i++) {
+                lua_rawgeti(L, -1, i);
+                lua_rawseti(L, -3, i);
+            }
+        lua_pop(L, 1);
+    } else if (strcmp(k, "material_names") == 0) {
+        const lc_mesh *m = check_mesh(L, 1);
+        size_t n = lc_mesh_material_slots(m);
+        lua_createtable(L, (int)n, 0);
+        for (size_t i = 0; i < n; i++) {
+            const char *name = lc_mesh_slot_name(m, i);
+            if (name)
+                lua_pushstring(L, name);
+            else
+                lua_pushboolean(L, 0);
+            lua_rawseti(L, -2, (lua_Integer)i + 1);
+        }
     } else {
         luaL_getmetafield(L, 1, "methods");
         lua_getfield(L, -1, k);

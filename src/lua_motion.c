@@ -229,7 +229,7 @@ static const char *type_name(lua_State *L, int idx)
     return got;
 }
 
-static void push_group(lua_State *L, const lc_transform *t, int members)
+void motion_push_group(lua_State *L, const lc_transform *t, int members)
 {
     members = lua_absindex(L, members);
     ud_group *g = lua_newuserdatauv(L, sizeof *g, 1);
@@ -239,7 +239,7 @@ static void push_group(lua_State *L, const lc_transform *t, int members)
     luaL_setmetatable(L, GROUP);
 }
 
-/* lancer.group{a, b, ...}: shapes, meshes, lights and groups that move
+/* lancer.group{a, b, ...}: shapes, meshes, lights, groups and CSG objects that move
 ** together. The list is copied: changing the table later changes nothing. */
 static int w_group(lua_State *L)
 {
@@ -249,9 +249,11 @@ static int w_group(lua_State *L)
     for (lua_Integer i = 1; i <= n; i++) {
         lua_geti(L, 1, i);
         if (!luaL_testudata(L, -1, SHAPE) && !luaL_testudata(L, -1, MESH) &&
-            !luaL_testudata(L, -1, LIGHT) && !luaL_testudata(L, -1, GROUP))
-            return luaL_argerror(L, 1, lua_pushfstring(L, "element %I: shape, mesh, light "
-                                                       "or group expected, got %s", i,
+            !luaL_testudata(L, -1, LIGHT) && !luaL_testudata(L, -1, GROUP) &&
+            !luaL_testudata(L, -1, CSG))
+            return luaL_argerror(L, 1, lua_pushfstring(L, "element %I: shape, mesh, "
+                                                       "light, group or CSG object "
+                                                       "expected, got %s", i,
                                                        type_name(L, -1)));
         lua_rawseti(L, -2, i);
     }
@@ -265,7 +267,7 @@ static int w_group(lua_State *L)
         lua_pop(L, 1);
     }
     lc_transform id = lc_transform_identity();
-    push_group(L, &id, -1);
+    motion_push_group(L, &id, -1);
     return 1;
 }
 
@@ -313,7 +315,8 @@ static int w_group_tostring(lua_State *L)
 
 /* obj:moved(T): a new object, T applied after whatever moved it before.
 ** Shapes and lights are values, moved now (exactly: lc_shape_transform);
-** a mesh is shared data, so it becomes a group of one, placed by T. */
+** a mesh is shared data, so it becomes a group of one, placed by T; a CSG
+** object keeps T, and its leaves take it when added. */
 int motion_moved(lua_State *L)
 {
     const lc_transform *t = check_transform(L, 2);
@@ -339,20 +342,23 @@ int motion_moved(lua_State *L)
         lua_createtable(L, 1, 0);
         lua_pushvalue(L, 1);
         lua_rawseti(L, -2, 1);
-        push_group(L, t, -1);
+        motion_push_group(L, t, -1);
         return 1;
     }
+    if (luaL_testudata(L, 1, CSG))
+        return csg_lua_moved(L, 1, t);
     ud_group *g = luaL_testudata(L, 1, GROUP);
     if (g) {
         lc_transform c = lc_transform_compose(t, &g->t);
         if (lc_transform_check(&c, &err))
             return raise_transform(L, 2, &err);
         lua_getiuservalue(L, 1, 1);
-        push_group(L, &c, -1);
+        motion_push_group(L, &c, -1);
         return 1;
     }
-    return luaL_argerror(L, 1, lua_pushfstring(L, "shape, mesh, light or group expected, "
-                                               "got %s", type_name(L, 1)));
+    return luaL_argerror(L, 1, lua_pushfstring(L, "shape, mesh, light, group or CSG "
+                                               "object expected, got %s",
+                                               type_name(L, 1)));
 }
 
 void motion_register(lua_State *L)

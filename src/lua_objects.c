@@ -237,6 +237,15 @@ static int w_material_index(lua_State *L)
     return 1;
 }
 
+void objects_push_material(lua_State *L, const lc_material *m)
+{
+    ud_material *u = lua_newuserdatauv(L, sizeof *u, 1);
+    u->m = *m;
+    luaL_setmetatable(L, MATERIAL);
+    lua_newtable(L);
+    lua_setiuservalue(L, -2, 1);
+}
+
 void objects_push_light(lua_State *L, const ud_light *l)
 {
     ud_light *u = lua_newuserdatauv(L, sizeof *u, 0);

@@ -19,6 +19,8 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
     lua_setfield(L, -2, "prim_tests");
     lua_pushinteger(L, (lua_Integer)st->node_tests);
     lua_setfield(L, -2, "node_tests");
+    lua_pushinteger(L, (lua_Integer)st->csg_tests);
+    lua_setfield(L, -2, "csg_tests");
     lua_pushnumber(L, st->seconds);
     lua_setfield(L, -2, "seconds");
     lua_pushnumber(L, st->compile_seconds);

@@ -223,6 +223,15 @@ static void element_error(lua_State *L, int arg, lua_Integer elem, const char *m
     luaL_argerror(L, arg, lua_tostring(L, -1));
 }
 
+/* The mesh userdata at idx, raising at arg when it was freed. */
+static lc_mesh *mesh_at(lua_State *L, int idx, int arg)
+{
+    lc_mesh *m = ((ud_mesh *)lua_touserdata(L, idx))->m;
+    if (!m)
+        luaL_argerror(L, arg, "lancer.Mesh already freed");
+    return m;
+}
+
 /* Checks that the value at idx is a shape, a light, a mesh, a group or an
 ** array of them that can be moved by the transform at xf (0: not moved),
 ** and appends what it holds to flat, so that a bad call to add leaves the
@@ -238,6 +247,26 @@ static void flatten(lua_State *L, int idx, int arg, int depth, lua_Integer elem,
     ud_shape *sh = luaL_testudata(L, idx, SHAPE);
     ud_light *li = sh ? NULL : luaL_testudata(L, idx, LIGHT);
     ud_mesh *me = sh || li ? NULL : luaL_testudata(L, idx, MESH);
+    if (!sh && !li && !me && luaL_testudata(L, idx, CSG)) {
+        /* Described and checked as it will be added: a leaf the transform
+        ** carries out of range, a mesh left open since, is refused now. */
+        int top = lua_gettop(L);
+        size_t n = csg_lua_describe(L, idx, t, arg);
+        lc_csg_node *nodes = lua_touserdata(L, top + 1);
+        for (size_t k = 0; k < n; k++)
+            if (nodes[k].op == LC_CSG_MESH) {
+                lua_rawgeti(L, top + 3, (lua_Integer)k + 1);
+                nodes[k].mesh = mesh_at(L, -1, arg);
+                lua_pop(L, 1);
+            }
+        if (lc_csg_check(nodes, n, &err))
+            element_error(L, arg, elem, err.msg);
+        lua_settop(L, top);
+        fl->meshes++;               /* its meshes are checked again before adding */
+        lua_pushvalue(L, idx);
+        flat_append(L, fl);
+        return;
+    }
     if (sh) {
         lc_shape out;
         if (t && lc_shape_transform(&sh->s, t, &out, &err))
@@ -292,25 +321,74 @@ static void flatten(lua_State *L, int idx, int arg, int depth, lua_Integer elem,
     if (luaL_getmetafield(L, idx, "__name") == LUA_TSTRING)
         got = lua_tostring(L, -1);
     if (elem)
-        lua_pushfstring(L, "element %I: shape, mesh, light, group or array of them "
-                        "expected, got %s", elem, got);
+        lua_pushfstring(L, "element %I: shape, mesh, light, group, CSG object or array "
+                        "of them expected, got %s", elem, got);
     else
-        lua_pushfstring(L, "shape, mesh, light, group or array of them expected, got %s",
-                        got);
+        lua_pushfstring(L, "shape, mesh, light, group, CSG object or array of them "
+                        "expected, got %s", got);
     luaL_argerror(L, arg, lua_tostring(L, -1));
 }
 
-/* The mesh userdata at idx, raising at arg when it was freed. */
-static lc_mesh *mesh_at(lua_State *L, int idx, int arg)
+/* Adds the CSG object at idx to the scene at 1, placed by t (or not):
+** its description, each leaf's material found or added, then its meshes'
+** core pointers and the scene's, fetched after everything that may run Lua
+** code, right before the core call. */
+static void add_csg(lua_State *L, int idx, int arg, const lc_transform *t)
 {
-    lc_mesh *m = ((ud_mesh *)lua_touserdata(L, idx))->m;
-    if (!m)
-        luaL_argerror(L, arg, "lancer.Mesh already freed");
-    return m;
+    lc_error err;
+    int top = lua_gettop(L);
+    size_t n = csg_lua_describe(L, idx, t, arg);
+    int buf = top + 1, mats = top + 2, meshes = top + 3;
+    for (size_t k = 0; k < n; k++) {
+        lc_csg_node *nd = (lc_csg_node *)lua_touserdata(L, buf) + k;
+        if (nd->op != LC_CSG_SHAPE && nd->op != LC_CSG_MESH)
+            continue;
+        lua_rawgeti(L, mats, (lua_Integer)k + 1);
+        int mat = material_index(L, 1, lua_gettop(L), arg);
+        lua_pop(L, 1);
+        ((lc_csg_node *)lua_touserdata(L, buf))[k].material = mat;
+    }
+    lua_getiuservalue(L, 1, 1);                    /* top + 4: for listing, removal */
+    luaL_checkstack(L, 4, "scene:add");
+    lc_csg_node *nodes = lua_touserdata(L, buf);
+    for (size_t k = 0; k < n; k++)
+        if (nodes[k].op == LC_CSG_MESH) {
+            lua_rawgeti(L, meshes, (lua_Integer)k + 1);
+            nodes[k].mesh = mesh_at(L, -1, arg);
+            lua_pop(L, 1);
+        }
+    int id = lc_scene_add_csg(scene_at(L, 1), nodes, n, &err);
+    if (id < 0)
+        lf_raise(L, arg, &err);
+    /* The scene holds the meshes now: naming them may run the collector. */
+    lua_rawgeti(L, top + 4, SC_MESHES);
+    for (size_t k = 0; k < n; k++) {
+        if (lua_rawgeti(L, meshes, (lua_Integer)k + 1) == LUA_TNIL) {
+            lua_pop(L, 1);
+            continue;
+        }
+        lua_pushlightuserdata(L, ((ud_mesh *)lua_touserdata(L, -1))->m);
+        lua_insert(L, -2);
+        lua_rawset(L, -3);
+    }
+    lua_pop(L, 1);
+    if (lua_rawgeti(L, top + 4, SC_CSGS) != LUA_TTABLE) {
+        lua_pop(L, 1);
+        lua_newtable(L);
+        lua_pushvalue(L, -1);
+        lua_rawseti(L, top + 4, SC_CSGS);
+    }
+    lua_pushvalue(L, idx);
+    lua_rawseti(L, -2, id);
+    lua_settop(L, top);
 }
 
 /* Adds the object at idx (checked by flatten) to the scene at 1, moved by
 ** the transform at xf (0: as it is). */
+/* Materials a mesh's faces may name through their slots, from Lua: enough
+** for any OBJ file seen; more take lc_scene_add_mesh_materials from C. */
+#define PALETTE_MAX 4096
+
 static void add_one(lua_State *L, int idx, int arg, int xf)
 {
     lc_error err;
@@ -336,15 +414,39 @@ static void add_one(lua_State *L, int idx, int arg, int xf)
             lf_raise(L, arg, &err);
         return;
     }
+    if (luaL_testudata(L, idx, CSG)) {
+        add_csg(L, idx, arg, t);
+        return;
+    }
     lua_getiuservalue(L, idx, 1);                  /* a mesh */
     int mat = material_index(L, 1, lua_gettop(L), arg);
+    lua_pop(L, 1);
+    /* A material per face slot: each slot's material in the scene. */
+    int slots[PALETTE_MAX];
+    int nslots = 0;
+    if (lua_getiuservalue(L, idx, 2) == LUA_TTABLE) {
+        int pal = lua_gettop(L);
+        lua_Integer n = (lua_Integer)lua_rawlen(L, pal);
+        if (n > PALETTE_MAX)
+            lf_error(L, arg, NULL, "a mesh of %lld materials: at most %d", (long long)n,
+                     PALETTE_MAX);
+        for (lua_Integer k = 1; k <= n; k++) {
+            lua_rawgeti(L, pal, k);
+            if (lua_type(L, -1) == LUA_TBOOLEAN)     /* false: the mesh's own material */
+                slots[nslots++] = mat;
+            else
+                slots[nslots++] = material_index(L, 1, lua_gettop(L), arg);
+            lua_pop(L, 1);
+        }
+    }
     lua_pop(L, 1);
     lua_getiuservalue(L, 1, 1);                    /* so scene:objects() can name it */
     lua_rawgeti(L, -1, SC_MESHES);
     lc_scene *s = scene_at(L, 1);
     lc_mesh *m = mesh_at(L, idx, arg);
-    if ((t ? lc_scene_add_mesh_moved(s, m, t, mat, &err)
-           : lc_scene_add_mesh(s, m, mat, &err)) < 0)
+    if ((nslots ? lc_scene_add_mesh_materials(s, m, t, slots, (size_t)nslots, &err)
+         : t ? lc_scene_add_mesh_moved(s, m, t, mat, &err)
+             : lc_scene_add_mesh(s, m, mat, &err)) < 0)
         lf_raise(L, arg, &err);
     lua_pushlightuserdata(L, m);
     lua_pushvalue(L, idx);
@@ -357,8 +459,8 @@ static int w_scene_add(lua_State *L)
     scene_check(L, 1);
     int n = lua_gettop(L);
     if (n < 2)
-        return luaL_argerror(L, 2, "shape, mesh, light, group or array of them expected, "
-                             "got no value");
+        return luaL_argerror(L, 2, "shape, mesh, light, group, CSG object or array of "
+                             "them expected, got no value");
     lua_newtable(L);
     int flat = n + 1;
     flat_list fl = {flat, 0, 0};
@@ -376,6 +478,16 @@ static int w_scene_add(lua_State *L)
             arg = (int)lua_tointeger(L, -1);
         else if (luaL_testudata(L, -1, MESH))
             mesh_at(L, -1, arg);
+        else if (luaL_testudata(L, -1, CSG)) {
+            int at = lua_gettop(L);
+            size_t nodes = csg_lua_describe(L, at, NULL, arg);
+            for (size_t i = 0; i < nodes; i++)
+                if (lua_rawgeti(L, at + 3, (lua_Integer)i + 1) == LUA_TNIL)
+                    lua_pop(L, 1);
+                else
+                    mesh_at(L, -1, arg), lua_pop(L, 1);
+            lua_settop(L, at);
+        }
         lua_pop(L, 1);
     }
     scene_check(L, 1);

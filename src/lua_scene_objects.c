@@ -23,7 +23,8 @@ static void push_materials(lua_State *L, int sidx)
     lua_pop(L, 2);
 }
 
-/* Pushes the entry for o: {id, kind, object, material, transform}. */
+/* Pushes the entry for o: {id, kind, object, material, transform}; a CSG
+** object's kind is its root's operation. */
 static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
 {
     lua_createtable(L, 0, 5);
@@ -54,6 +55,13 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
         lua_rawgeti(L, uv, SC_MESHES);
         lua_pushlightuserdata(L, o->mesh);
         lua_rawget(L, -2);
+        lua_remove(L, -2);
+        break;
+    case LC_OBJECT_CSG:
+        lua_pushstring(L, lc_csg_op_name(o->csg[0].op));
+        lua_setfield(L, e, "kind");
+        lua_rawgeti(L, uv, SC_MESHES);
+        csg_lua_push_listed(L, o->csg, o->csg_nodes, mats, -1);
         lua_remove(L, -2);
         break;
     default: {
@@ -114,7 +122,7 @@ static int matches(lua_State *L, int idx, const lc_object *o)
 }
 
 /* scene:remove(x): x is an id, an entry of scene:objects(), or the shape,
-** light or mesh that was added, when it was added once. */
+** light, mesh or CSG object that was added, when it was added once. */
 static int w_scene_remove(lua_State *L)
 {
     scene_check(L, 1);
@@ -135,6 +143,37 @@ static int w_scene_remove(lua_State *L)
         id = i < 1 || i > 0x7fffffff ? -1 : (int)(i - 1);
         if (id < 0)
             return luaL_argerror(L, 2, lua_pushfstring(L, "no object %I in this scene", i));
+    } else if (luaL_testudata(L, 2, CSG)) {
+        /* The ids it was added under (as itself, not inside a group). */
+        int found = 0, other = -1;
+        lua_getiuservalue(L, 1, 1);
+        if (lua_rawgeti(L, -1, SC_CSGS) == LUA_TTABLE) {
+            lua_pushnil(L);
+            while (lua_next(L, -2)) {
+                lc_object o;
+                int k = (int)lua_tointeger(L, -2);
+                if (lua_rawequal(L, -1, 2) &&
+                    lc_scene_object(scene_at(L, 1), k, &o, &err) == LC_OK) {
+                    if (found == 0 || k < id) {
+                        other = found ? id : other;
+                        id = k;
+                    } else if (found == 1 || k < other) {
+                        other = k;
+                    }
+                    found++;
+                }
+                lua_pop(L, 1);
+            }
+        }
+        if (found == 0)
+            return luaL_argerror(L, 2, "this CSG object is not in this scene (as added "
+                                 "itself: remove one placed by a group by id)");
+        if (found > 1)
+            return luaL_argerror(L, 2, lua_pushfstring(L, "this CSG object was added "
+                                                       "%d times (ids %d, %d%s): remove "
+                                                       "one by id", found, id + 1,
+                                                       other + 1, found > 2 ? ", ..." :
+                                                       ""));
     } else if (luaL_testudata(L, 2, SHAPE) || luaL_testudata(L, 2, LIGHT) ||
                luaL_testudata(L, 2, MESH)) {
         const char *what = luaL_tolstring(L, 2, NULL);   /* may run a __tostring */
@@ -158,8 +197,9 @@ static int w_scene_remove(lua_State *L)
                                                        found, id + 1, other + 1,
                                                        found > 2 ? ", ..." : ""));
     } else {
-        return luaL_argerror(L, 2, lua_pushfstring(L, "id, entry of scene:objects(), shape, "
-                                                   "light or mesh expected, got %s",
+        return luaL_argerror(L, 2, lua_pushfstring(L, "id, entry of scene:objects(), "
+                                                   "shape, light, mesh or CSG object "
+                                                   "expected, got %s",
                                                    luaL_typename(L, 2)));
     }
     if (lc_scene_remove(scene_at(L, 1), id, &err))

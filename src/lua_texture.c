@@ -81,6 +81,7 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
             lua_getfield(L, 1, "path");
             if (!lua_isstring(L, -1))
                 return lf_error(L, 1, "image", "an image or a path to a PNG or .hdr file expected");
+            lancer_check_file(L, 1, lua_tostring(L, -1), 0);
             lc_error err;
             const char *path = lua_tostring(L, -1), *dot = strrchr(path, '.');
             int hdr = dot && (strcmp(dot, ".hdr") == 0 || strcmp(dot, ".HDR") == 0);
@@ -271,6 +272,23 @@ int texture_scene_index(lua_State *L, int sidx, int tidx, int arg, int depth)
     lua_rawset(L, known);
     lua_settop(L, uv - 1);
     return index;
+}
+
+void texture_push_png(lua_State *L, const char *path, const char *what)
+{
+    lc_error err;
+    lc_image *img = lc_image_load_png(path, LC_ENCODE_SRGB, &err);
+    if (!img)
+        luaL_error(L, "%s: %s", what, err.msg);
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);
+    ui->img = img;
+    luaL_setmetatable(L, IMAGE);
+    lancer_charge(L);
+    lc_texture t = lc_texture_default(LC_TEX_IMAGE);
+    t.image = img;
+    push_texture(L, &t);
+    lua_insert(L, -2);
+    lua_setiuservalue(L, -2, TU_IMAGE);
 }
 
 int texture_check(lua_State *L, int idx)

@@ -19,6 +19,7 @@
 #define GROUP    "lancer.Group"
 #define ENTRY    "lancer.SceneObject"
 #define TEXTURE  "lancer.Texture"
+#define CSG      "lancer.CSG"
 
 typedef struct { lc_material m; } ud_material;   /* user value 1: its textures, by
                                                   ** field name, or nil */
@@ -40,17 +41,29 @@ typedef struct {
                         ** the end of a render; what follows is scene building */
 } ud_scene;                                       /* user value 1: see SC_CAMERA */
 typedef struct { lc_image *img; } ud_image;
-typedef struct { lc_mesh *m; } ud_mesh;           /* user value 1: its material */
+typedef struct { lc_mesh *m; } ud_mesh;           /* user value 1: its material; 2: the
+                                                  ** materials of its face slots, or nil */
 typedef struct { lc_transform t; } ud_transform;
 typedef struct { lc_transform t; } ud_group;      /* user value 1: its members, an array */
+typedef struct {
+    lc_csg_op    op;
+    int          cut_object;   /* differences: cut = 'object' */
+    int          moved;        /* t is not the identity */
+    lc_transform t;            /* placed by it, after its operands' own placings */
+    int          depth;        /* nesting levels of operations below, this one counted */
+    size_t       nodes;        /* the length of its description */
+} ud_csg;            /* user values: 1 its operands, an array; 2 its material or nil */
 
 /* A scene's user value is a table: [SC_CAMERA] its camera userdata,
 ** [SC_MATERIALS] a table from material userdata to the index the core gave
 ** it (so a material shared by a million spheres is stored once),
 ** [SC_DEFAULT] the index of the default material, [SC_MESHES] a table from
-** each mesh's core pointer (light userdata) to its userdata, for listing. */
+** each mesh's core pointer (light userdata) to its userdata, for listing,
+** [SC_TEXTURES] a table from texture userdata to the scene's index for it,
+** [SC_CSGS] a table from each CSG object's id (the core's) to the value
+** added, for scene:remove(csg). */
 enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4, SC_TEXTURES = 5,
-       SC_BACKGROUND = 6 };   /* the background's texture, when it is one */
+       SC_CSGS = 6, SC_BACKGROUND = 7 };   /* the background's texture, when it is one */
 
 /* A metatable `name` with the metamethods `meta` and, when given, methods
 ** that its __index looks up under "methods". */
@@ -63,6 +76,15 @@ void lancer_class(lua_State *L, const char *name, const luaL_Reg *meta,
 ** pointer in use after it. */
 void lancer_charge(lua_State *L);
 
+/* lua_lancer.c: files the binding opens itself, beyond its arguments (an
+** OBJ's .mtl libraries, their texture maps, an image texture's path), are
+** first shown to the host's gate, a function at registry[LANCER_FILE_GATE]
+** called with (path, writing) and returning true, or false and why (the
+** sandbox sets one); raises at argument arg when it says no. No gate: all
+** may be read. */
+#define LANCER_FILE_GATE "lancer.file_gate"
+void lancer_check_file(lua_State *L, int arg, const char *path, int writing);
+
 /* Each file registers its metatables and sets its constructors in the module
 ** table at the top of the stack. */
 void objects_register(lua_State *L);   /* lua_objects.c: materials, lights, cameras */
@@ -74,6 +96,7 @@ void explain_register(lua_State *L);   /* lua_explain.c, with ray trees */
 void image_register(lua_State *L);     /* lua_image.c */
 void motion_register(lua_State *L);    /* lua_motion.c: transforms and groups */
 void scene_objects_register(lua_State *L); /* lua_scene_objects.c: objects, remove */
+void csg_lua_register(lua_State *L);   /* lua_csg.c: union, intersection, ... */
 void hook_register(lua_State *L);      /* lua_hook.c: set_host_hook */
 void query_register(lua_State *L);     /* lua_query.c: intersect, occluded */
 void texture_register(lua_State *L);   /* lua_texture.c: checker, ..., mix */
@@ -128,5 +151,27 @@ int  objects_light_moved(const ud_light *l, const lc_transform *t, ud_light *out
 int  objects_light_add(lc_scene *s, const ud_light *l, lc_error *err);
 /* The light of a scene's listed object o (a light of any kind). */
 ud_light objects_light_of(const lc_object *o);
+/* A material userdata of m, with no texture (lua_objects.c). */
+void objects_push_material(lua_State *L, const lc_material *m);
+/* An image texture of the PNG at path, sRGB-decoded; raises naming `what`
+** (lua_texture.c). */
+void texture_push_png(lua_State *L, const char *path, const char *what);
+/* lua_motion.c: pushes a group of the members at stack index members,
+** placed by t. */
+void motion_push_group(lua_State *L, const lc_transform *t, int members);
+
+/* lua_csg.c: the CSG object at idx moved by t, pushed. */
+int    csg_lua_moved(lua_State *L, int idx, const lc_transform *t);
+/* Pushes the flat description of the CSG object at idx, placed by xf (or
+** not: NULL), as three values: a userdata holding its lc_csg_node array
+** (meshes not filled in, materials 0), a table from each leaf's node
+** number (from 1) to its material userdata (absent: the default), and one
+** from each mesh leaf's to its mesh userdata. Returns the node count;
+** raises at arg when a leaf cannot be placed by xf. */
+size_t csg_lua_describe(lua_State *L, int idx, const lc_transform *xf, int arg);
+/* Pushes the CSG object a scene lists, nodes[0, n); mats: the scene's
+** materials by index (lua_scene_objects.c), meshes: its SC_MESHES. */
+void   csg_lua_push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, int mats,
+                           int meshes);
 
 #endif

@@ -193,7 +193,7 @@ static int w_read_arg(lua_State *L)
     return ORIGINAL(L)(L);
 }
 
-/* lancer.merge(out, {part, ...}): out is written, each part read; the list
+/* lancer.merge_tiles(out, {part, ...}): out is written, each part read; the list
 ** is read raw, as the binding reads it, so what is checked is what is used. */
 static int w_merge_args(lua_State *L)
 {
@@ -208,6 +208,21 @@ static int w_merge_args(lua_State *L)
             lua_pop(L, 1);
         }
     return ORIGINAL(L)(L);
+}
+
+/* The binding's gate for the files it opens itself (an OBJ's .mtl and
+** texture maps, an image texture's path): lua_types.h, LANCER_FILE_GATE. */
+static int w_file_gate(lua_State *L)
+{
+    const char *path = luaL_checkstring(L, 1);
+    int writing = lua_toboolean(L, 2);
+    if (allowed(L, path, writing)) {
+        lua_pushboolean(L, 1);
+        return 1;
+    }
+    lua_pushboolean(L, 0);
+    refusal(L, POLICY(L), path, writing);
+    return 2;
 }
 
 static int w_write_arg(lua_State *L)          /* io.output */
@@ -594,9 +609,16 @@ int sandbox_seal(lua_State *L)
     wrap_loader(L, core, "load_obj", P);
     wrap_loader(L, core, "load_png", P);
     wrap_loader(L, core, "load_exr", P);
-    lua_getfield(L, core, "merge");
+    lua_pushnil(L);                   /* upvalue 1: no original; 2: the policy */
+    if (P)
+        lua_pushvalue(L, P);
+    else
+        lua_pushnil(L);
+    lua_pushcclosure(L, w_file_gate, 2);
+    lua_setfield(L, LUA_REGISTRYINDEX, "lancer.file_gate");
+    lua_getfield(L, core, "merge_tiles");
     push_wrapper(L, w_merge_args, P);
-    replace_everywhere(L, core, "merge");
+    replace_everywhere(L, core, "merge_tiles");
     lua_pushnil(L);
     replace_everywhere(L, core, "set_host_hook");
 

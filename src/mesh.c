@@ -35,6 +35,13 @@ void lc_mesh_free(lc_mesh *m)
     mem_free(m->n);
     mem_free(m->uv);
     mem_free(m->f);
+    mem_free(m->slot);
+    for (uint32_t i = 0; m->slot_name && i < m->nslots; i++)
+        mem_free(m->slot_name[i]);
+    mem_free(m->slot_name);
+    for (size_t i = 0; i < m->nmtllib; i++)
+        mem_free(m->mtllib[i]);
+    mem_free(m->mtllib);
     mem_free(m);
 }
 
@@ -128,6 +135,42 @@ lc_status lc_mesh_add_faces(lc_mesh *m, const uint32_t *abc, size_t n, lc_error 
 
 size_t lc_mesh_vertex_count(const lc_mesh *m) { return m->nv; }
 size_t lc_mesh_face_count(const lc_mesh *m) { return m->nf; }
+
+lc_status lc_mesh_add_face_materials(lc_mesh *m, const uint32_t *slots, size_t n,
+                                     lc_error *err)
+{
+    if (n == 0)
+        return error_ok(err), LC_OK;
+    for (size_t i = 0; i < n; i++)
+        if (slots[i] >= LC_MAX_SLOTS)
+            return error_fail(err, LC_EARG, "face_materials", "face %zu: material slot %lu "
+                              "is past lancer's %d", m->nslot + i + 1,
+                              (unsigned long)slots[i] + 1, LC_MAX_SLOTS);
+    if (!reserve((void **)&m->slot, &m->capslot, m->nslot, n, 1, sizeof *m->slot))
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory: %zu face materials",
+                          m->nslot + n);
+    memcpy(m->slot + m->nslot, slots, n * sizeof *slots);
+    m->nslot += n;
+    for (size_t i = 0; i < n; i++)
+        if (slots[i] + 1 > m->nslots)
+            m->nslots = slots[i] + 1;
+    error_ok(err);
+    return LC_OK;
+}
+
+size_t lc_mesh_material_slots(const lc_mesh *m) { return m->nslots; }
+
+const char *lc_mesh_slot_name(const lc_mesh *m, size_t slot)
+{
+    return m->slot_name && slot < m->nslots ? m->slot_name[slot] : NULL;
+}
+
+size_t lc_mesh_mtllib_count(const lc_mesh *m) { return m->nmtllib; }
+
+const char *lc_mesh_mtllib(const lc_mesh *m, size_t i)
+{
+    return i < m->nmtllib ? m->mtllib[i] : NULL;
+}
 
 const double *lc_mesh_vertex_data(const lc_mesh *m) { return m->v; }
 const uint32_t *lc_mesh_face_data(const lc_mesh *m) { return m->f; }

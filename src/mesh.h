@@ -13,6 +13,12 @@ struct lc_mesh {
     size_t    nuv, capuv;
     uint32_t *f;        /* 3 vertex indices per face, 0-based */
     size_t    nf, capf;
+    uint32_t *slot;     /* material slot per face, or NULL: faces past nslot take 0 */
+    size_t    nslot, capslot;
+    uint32_t  nslots;   /* 1 + the largest slot, 0 without slots */
+    char    **slot_name;    /* OBJ usemtl names by slot (NULL each when unnamed), or NULL */
+    char    **mtllib;       /* OBJ mtllib files, resolved against the OBJ's folder */
+    size_t    nmtllib;
     int       refs;     /* owners: the creator plus each scene holding it */
 };
 

@@ -194,6 +194,104 @@ done:
     return st;
 }
 
+/* usemtl and mtllib: a slot per material name in the order first used, the
+** slot of each triangle, and the material libraries named. */
+typedef struct {
+    char   **name;         /* by slot; NULL for the faces before any usemtl */
+    size_t   n, cap;
+    long     current;      /* the slot faces take now; -1: none chosen yet */
+    uint32_t *tri;         /* per triangle */
+    size_t   ntri, captri;
+    char   **lib;
+    size_t   nlib, caplib;
+    int      used;         /* a usemtl came */
+} obj_materials;
+
+static int grow(void **a, size_t *cap, size_t n, size_t size)
+{
+    if (n < *cap)
+        return 1;
+    size_t nc = *cap ? 2 * *cap : 16;
+    void *p = mem_realloc(*a, nc * size);
+    if (!p)
+        return 0;
+    *a = p;
+    *cap = nc;
+    return 1;
+}
+
+static char *dup_range(const char *a, size_t n)
+{
+    char *d = mem_alloc(n + 1);
+    if (d) {
+        memcpy(d, a, n);
+        d[n] = '\0';
+    }
+    return d;
+}
+
+/* The slot of name (NULL: the unnamed one), added when new; -1 out of memory
+** or past LC_MAX_SLOTS. */
+static long slot_of(obj_materials *om, const char *name)
+{
+    for (size_t i = 0; i < om->n; i++)
+        if ((!name && !om->name[i]) || (name && om->name[i] && !strcmp(name, om->name[i])))
+            return (long)i;
+    if (om->n >= LC_MAX_SLOTS || !grow((void **)&om->name, &om->cap, om->n, sizeof *om->name))
+        return -1;
+    om->name[om->n] = name ? dup_range(name, strlen(name)) : NULL;
+    if (name && !om->name[om->n])
+        return -1;
+    return (long)om->n++;
+}
+
+/* A library's path: as given when absolute, else beside the OBJ file. */
+static char *beside(const char *obj, const char *file, size_t n)
+{
+    const char *slash = strrchr(obj, '/');
+    if (file[0] == '/' || !slash)
+        return dup_range(file, n);
+    size_t dir = (size_t)(slash - obj) + 1;
+    char *d = mem_alloc(dir + n + 1);
+    if (d) {
+        memcpy(d, obj, dir);
+        memcpy(d + dir, file, n);
+        d[dir + n] = '\0';
+    }
+    return d;
+}
+
+static void materials_free(obj_materials *om)
+{
+    for (size_t i = 0; i < om->n; i++)
+        mem_free(om->name[i]);
+    mem_free(om->name);
+    for (size_t i = 0; i < om->nlib; i++)
+        mem_free(om->lib[i]);
+    mem_free(om->lib);
+    mem_free(om->tri);
+}
+
+/* Gives the mesh its faces' slots, their names and the libraries (taken
+** from om). */
+static lc_status materials_give(obj_materials *om, lc_mesh *m, lc_error *err)
+{
+    if (om->used) {
+        lc_status st = lc_mesh_add_face_materials(m, om->tri, om->ntri, err);
+        if (st)
+            return st;
+        m->nslots = (uint32_t)om->n;          /* names beyond the last face's slot too */
+        m->slot_name = om->name;
+        om->name = NULL;
+        om->n = 0;
+    }
+    m->mtllib = om->lib;
+    m->nmtllib = om->nlib;
+    om->lib = NULL;
+    om->nlib = 0;
+    return LC_OK;
+}
+
 lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
 {
     FILE *fp = fopen(path, "r");
@@ -208,6 +306,9 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
     size_t cap = 0, lineno = 0;
     lc_status st = LC_OK;
     lc_mesh *m = NULL;
+    obj_materials om;
+    memset(&om, 0, sizeof om);
+    om.current = -1;
     int got;
     while (st == LC_OK && (got = read_line(fp, &line, &cap)) != LINE_EOF) {
         lineno++;
@@ -246,7 +347,35 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
             else if (!dpush(&attr[kind], x))
                 st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at line "
                                 "%zu", path, lineno);
+        } else if (strncmp(s, "usemtl", 6) == 0 && (s[6] == ' ' || s[6] == '\t' ||
+                                                    s[6] == '\0')) {
+            char *name = s + 6 + strspn(s + 6, " \t");
+            size_t n = strlen(name);
+            while (n > 0 && (name[n - 1] == ' ' || name[n - 1] == '\t'))
+                name[--n] = '\0';
+            if (n == 0)
+                st = error_fail(err, LC_EARG, NULL, "%s:%zu: 'usemtl' needs a material name",
+                                path, lineno);
+            else if ((om.current = slot_of(&om, name)) < 0)
+                st = error_fail(err, LC_ENOMEM, NULL, "%s:%zu: out of memory, or more than "
+                                "%d materials", path, lineno, LC_MAX_SLOTS);
+            om.used = 1;
+        } else if (strncmp(s, "mtllib", 6) == 0 && (s[6] == ' ' || s[6] == '\t')) {
+            char *save = NULL;
+            for (char *f = strtok_r(s + 6, " \t", &save); f && st == LC_OK;
+                 f = strtok_r(NULL, " \t", &save)) {
+                char *lib = grow((void **)&om.lib, &om.caplib, om.nlib, sizeof *om.lib) ?
+                            beside(path, f, strlen(f)) : NULL;
+                if (!lib)
+                    st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at "
+                                    "line %zu", path, lineno);
+                else
+                    om.lib[om.nlib++] = lib;
+            }
         } else if (strncmp(s, "f ", 2) == 0 || strncmp(s, "f\t", 2) == 0) {
+            if (om.current < 0 && (om.current = slot_of(&om, NULL)) < 0)
+                st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at line "
+                                "%zu", path, lineno);
             const size_t count[3] = {attr[0].n, attr[1].n, attr[2].n};
             long first[3] = {0, 0, 0}, prev[3] = {0, 0, 0};
             int k = 0;
@@ -264,16 +393,19 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
                 all[2] &= cur[2] >= 0;
                 if (k == 0)
                     memcpy(first, cur, sizeof cur);
-                if (k >= 2 && (!lpush(&c, first) || !lpush(&c, prev) || !lpush(&c, cur)))
+                if (k >= 2 && (!lpush(&c, first) || !lpush(&c, prev) || !lpush(&c, cur) ||
+                               !grow((void **)&om.tri, &om.captri, om.ntri, sizeof *om.tri)))
                     st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at "
                                     "line %zu", path, lineno);
+                else if (k >= 2)
+                    om.tri[om.ntri++] = (uint32_t)om.current;
                 memcpy(prev, cur, sizeof cur);
             }
             if (st == LC_OK && k < 3)
                 st = error_fail(err, LC_EARG, NULL, "%s:%zu: a face needs at least 3 "
                                 "vertices, got %d", path, lineno, k);
         }
-        /* Anything else (o, g, s, usemtl, mtllib, l, ...) is skipped. */
+        /* Anything else (o, g, s, l, ...) is skipped. */
     }
     mem_free(line);
     if (st == LC_OK && (attr[0].n == 0 || c.n == 0))
@@ -300,6 +432,9 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
             mem_free(tri);
         }
     }
+    if (st == LC_OK)
+        st = materials_give(&om, m, err);
+    materials_free(&om);
     for (int k = 0; k < 3; k++)
         mem_free(attr[k].a);
     mem_free(c.a);

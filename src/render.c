@@ -460,6 +460,7 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
         sum.samples += ws[i].t.samples;
         sum.prim_tests += ws[i].t.counts.prims;
         sum.node_tests += ws[i].t.counts.nodes;
+        sum.csg_tests += ws[i].t.counts.csg;
     }
     if (j.adaptive) {
         sum.converged = adaptive_converged(&ad);
@@ -473,6 +474,7 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
     sum.primitives = s->c.ntris;
     for (int k = 0; k < LC_SHAPE_KINDS; k++)
         sum.primitives += s->shapes[k].n;
+    sum.primitives += s->ncsgs;
     sum.degenerate = s->c.degenerate;
     memcpy(sum.why, s->c.why, sizeof sum.why);
     sum.threads = threads;

@@ -46,7 +46,11 @@ void lc_scene_free(lc_scene *s)
     for (size_t i = 0; i < s->nmeshes; i++) {
         lc_mesh_free(s->meshes[i].mesh);
         mem_free(s->meshes[i].xf);
+        mem_free(s->meshes[i].palette);
     }
+    for (size_t i = 0; i < s->ncsgs; i++)
+        csg_free(s->csgs[i]);
+    mem_free(s->csgs);
     mem_free(s->light_ids);
     mem_free(s->materials);
     lc_textures_free(s->textures);
@@ -198,26 +202,31 @@ int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *
 }
 
 /* Adds m, moved by xf (taken over) or as it is when xf is NULL. */
-static int add_mesh(lc_scene *s, lc_mesh *m, affine *xf, int material, lc_error *err)
+static int add_mesh(lc_scene *s, lc_mesh *m, affine *xf, int material, int *palette,
+                    uint32_t npalette, lc_error *err)
 {
     if (!check_material(s, material, err)) {
         mem_free(xf);
+        mem_free(palette);
         return -1;
     }
     if (m->nn != 0 && m->nn != m->nv) {
         error_fail(err, LC_EARG, "normals", "mesh has %zu normals for %zu vertices", m->nn,
                 m->nv);
         mem_free(xf);
+        mem_free(palette);
         return -1;
     }
     if (m->nuv != 0 && m->nuv != m->nv) {
         error_fail(err, LC_EARG, "uvs", "mesh has %zu uvs for %zu vertices", m->nuv, m->nv);
         mem_free(xf);
+        mem_free(palette);
         return -1;
     }
     if (s->nmeshes >= PRIM_MAX || !GROW(s, meshes)) {
         error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
         mem_free(xf);
+        mem_free(palette);
         return -1;
     }
     mesh_prim *mp = &s->meshes[s->nmeshes++];
@@ -225,6 +234,8 @@ static int add_mesh(lc_scene *s, lc_mesh *m, affine *xf, int material, lc_error 
     mp->mesh = mesh_retain(m);
     mp->material = material;
     mp->xf = xf;
+    mp->palette = palette;
+    mp->npalette = npalette;
     mp->id = s->next_id;
     s->c.valid = 0;
     s->nshapes++;
@@ -233,7 +244,25 @@ static int add_mesh(lc_scene *s, lc_mesh *m, affine *xf, int material, lc_error 
 
 int lc_scene_add_mesh(lc_scene *s, lc_mesh *m, int material, lc_error *err)
 {
-    return add_mesh(s, m, NULL, material, err);
+    return add_mesh(s, m, NULL, material, NULL, 0, err);
+}
+
+/* *xf: t made an affine placement, or NULL for the identity. */
+static lc_status placement(const lc_transform *t, affine **xf, lc_error *err)
+{
+    *xf = NULL;
+    if (lc_transform_check(t, err))
+        return LC_EARG;
+    if (lc_transform_is_identity(t))
+        return LC_OK;
+    if (!(*xf = mem_alloc(sizeof **xf)))
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
+    if (affine_make(t, *xf, err)) {
+        mem_free(*xf);
+        *xf = NULL;
+        return LC_EARG;
+    }
+    return LC_OK;
 }
 
 int lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t, int material,
@@ -241,18 +270,59 @@ int lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t, int 
 {
     if (lc_transform_check(t, err))
         return -1;
-    if (lc_transform_is_identity(t))
-        return add_mesh(s, m, NULL, material, err);
-    affine *xf = mem_alloc(sizeof *xf);
-    if (!xf) {
-        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh");
+    affine *xf;
+    if (placement(t, &xf, err))
         return -1;
-    }
-    if (affine_make(t, xf, err)) {
+    return add_mesh(s, m, xf, material, NULL, 0, err);
+}
+
+int lc_scene_add_mesh_materials(lc_scene *s, lc_mesh *m, const lc_transform *t,
+                                const int *materials, size_t n, lc_error *err)
+{
+    if (n == 0 || n > LC_MAX_SLOTS)
+        return error_fail(err, LC_EARG, "materials", "between 1 and %d materials, got %zu",
+                          LC_MAX_SLOTS, n), -1;
+    if (n < m->nslots)
+        return error_fail(err, LC_EARG, "materials", "the mesh's faces use %lu material "
+                          "slots, %zu materials given", (unsigned long)m->nslots, n), -1;
+    for (size_t k = 0; k < n; k++)
+        if (!check_material(s, materials[k], err))
+            return -1;
+    affine *xf = NULL;
+    if (t && placement(t, &xf, err))
+        return -1;
+    int *palette = mem_alloc(n * sizeof *palette);
+    if (!palette) {
         mem_free(xf);
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory adding a mesh"), -1;
+    }
+    memcpy(palette, materials, n * sizeof *palette);
+    return add_mesh(s, m, xf, materials[0], palette, (uint32_t)n, err);
+}
+
+int lc_scene_add_csg(lc_scene *s, const lc_csg_node *nodes, size_t n, lc_error *err)
+{
+    if (lc_csg_check(nodes, n, err))
+        return -1;
+    for (size_t i = 0; i < n; i++)
+        if ((nodes[i].op == LC_CSG_SHAPE || nodes[i].op == LC_CSG_MESH) &&
+            !check_material(s, nodes[i].material, err)) {
+            if (n > 1)
+                error_prefix(err, "node %zu: ", i);
+            return -1;
+        }
+    if (s->ncsgs >= PRIM_MAX || !GROW(s, csgs)) {
+        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a CSG object");
         return -1;
     }
-    return add_mesh(s, m, xf, material, err);
+    csg_tree *t = csg_build(nodes, n, s->csgs, s->ncsgs, err);
+    if (!t)
+        return -1;
+    t->id = s->next_id;
+    s->csgs[s->ncsgs++] = t;
+    s->c.valid = 0;
+    s->nshapes++;
+    return s->next_id++;
 }
 
 int lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err)
@@ -387,8 +457,11 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
             lc_transform mv = lc_transform_translate(t);
             st = lc_transform_compose(&mv, &st);
             st = lc_transform_compose(&st, &s->meshes[i].xf->xf);
-            if (lc_scene_add_mesh_moved(c, s->meshes[i].mesh, &st, s->meshes[i].material,
-                                        err) < 0)
+            const mesh_prim *mp = &s->meshes[i];
+            if ((mp->palette ? lc_scene_add_mesh_materials(c, mp->mesh, &st, mp->palette,
+                                                           mp->npalette, err)
+                             : lc_scene_add_mesh_moved(c, mp->mesh, &st, mp->material,
+                                                       err)) < 0)
                 goto fail;
             continue;
         }
@@ -405,10 +478,39 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
             st = lc_mesh_add_uvs(m, src->uv, src->nuv, err);
         if (st == LC_OK)
             st = lc_mesh_add_faces(m, src->f, src->nf, err);
-        if (st == LC_OK && lc_scene_add_mesh(c, m, s->meshes[i].material, err) < 0)
+        if (st == LC_OK && src->nslot)
+            st = lc_mesh_add_face_materials(m, src->slot, src->nslot, err);
+        const mesh_prim *mp = &s->meshes[i];
+        if (st == LC_OK &&
+            (mp->palette ? lc_scene_add_mesh_materials(c, m, NULL, mp->palette, mp->npalette,
+                                                       err)
+                         : lc_scene_add_mesh(c, m, mp->material, err)) < 0)
             st = LC_EARG;
         lc_mesh_free(m);
         if (st != LC_OK)
+            goto fail;
+    }
+    for (size_t i = 0; i < s->ncsgs; i++) {
+        const csg_tree *tr = s->csgs[i];
+        lc_csg_node *d = mem_alloc(tr->n * sizeof *d);
+        if (!d) {
+            error_fail(err, LC_ENOMEM, NULL, "out of memory copying a CSG object");
+            goto fail;
+        }
+        memcpy(d, tr->desc, tr->n * sizeof *d);
+        for (size_t k = 0; k < tr->n; k++) {
+            if (d[k].op == LC_CSG_SHAPE) {
+                shape_scale(&d[k].shape, scale, t);
+            } else if (d[k].op == LC_CSG_MESH) {
+                lc_transform st = lc_transform_scale(v3(scale, scale, scale));
+                lc_transform mv = lc_transform_translate(t);
+                st = lc_transform_compose(&mv, &st);
+                d[k].transform = lc_transform_compose(&st, &d[k].transform);
+            }
+        }
+        int id = lc_scene_add_csg(c, d, tr->n, err);
+        mem_free(d);
+        if (id < 0)
             goto fail;
     }
     for (size_t i = 0; i < s->nlights; i++) {

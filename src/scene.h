@@ -6,6 +6,7 @@
 #include <signal.h>
 #include "affine.h"
 #include "bvh.h"
+#include "csg.h"
 #include "lights.h"
 #include "mesh.h"
 #include "shape.h"
@@ -17,7 +18,20 @@ typedef struct {
     int material, id;
     affine *xf;
     uint32_t blas;         /* compile: its entry in the scene's mesh BVH cache */
+    int     *palette;      /* slot k's material, or NULL: every face takes `material` */
+    uint32_t npalette;
 } mesh_prim;
+
+/* The material of face f of mesh prim mp: its slot's, bounded however the
+** mesh grew after it was added. */
+static inline int mesh_face_material(const mesh_prim *mp, uint32_t f)
+{
+    if (!mp->palette)
+        return mp->material;
+    const lc_mesh *m = mp->mesh;
+    uint32_t k = f < m->nslot ? m->slot[f] : 0;
+    return mp->palette[k < mp->npalette ? k : 0];
+}
 
 /* A mesh's own BVH in object space, built once for every instance of it and
 ** kept across compiles until the mesh grows (instance.c). */
@@ -82,6 +96,7 @@ struct lc_scene {
     lc_textures *textures;         /* NULL until the first lc_scene_add_texture */
     shape_list  shapes[LC_SHAPE_KINDS];   /* by kind, each sorted by id */
     SCENE_ARRAY(mesh_prim, meshes);
+    SCENE_ARRAY(csg_tree *, csgs); /* CSG objects, sorted by id */
     SCENE_ARRAY(emitter, emitters);
     SCENE_ARRAY(lc_point_light, lights);
     SCENE_ARRAY(spot_light, spots);       /* spot lights ... */

@@ -52,6 +52,26 @@ static void mesh_object(lc_object *o, const mesh_prim *p)
     o->transform = p->xf ? p->xf->xf : lc_transform_identity();
 }
 
+static void csg_object(lc_object *o, const csg_tree *t)
+{
+    o->kind = LC_OBJECT_CSG;
+    o->id = t->id;
+    o->material = -1;
+    o->transform = lc_transform_identity();
+    o->csg = t->desc;
+    o->csg_nodes = t->n;
+}
+
+static long find_csg(const lc_scene *s, int id)
+{
+    size_t lo = 0, hi = s->ncsgs;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (s->csgs[mid]->id < id) lo = mid + 1; else hi = mid;
+    }
+    return lo < s->ncsgs && s->csgs[lo]->id == id ? (long)lo : -1;
+}
+
 static void light_object(lc_object *o, const lc_scene *s, size_t i)
 {
     o->kind = LC_OBJECT_LIGHT;
@@ -76,14 +96,15 @@ static void sun_object(lc_object *o, const lc_scene *s, size_t i)
     o->sun = s->suns[i].d;
 }
 
-/* The sorted lists merged by id: one per shape kind, then meshes, lights of
-** each kind. */
-enum { LIST_MESHES = LC_SHAPE_KINDS, LIST_LIGHTS, LIST_SPOTS, LIST_SUNS, LISTS };
+/* The sorted lists merged by id: one per shape kind, then meshes, CSG
+** objects, lights of each kind. */
+enum { LIST_MESHES = LC_SHAPE_KINDS, LIST_CSGS, LIST_LIGHTS, LIST_SPOTS, LIST_SUNS, LISTS };
 
 static size_t list_len(const lc_scene *s, int j)
 {
     switch (j) {
     case LIST_MESHES: return s->nmeshes;
+    case LIST_CSGS: return s->ncsgs;
     case LIST_LIGHTS: return s->nlights;
     case LIST_SPOTS: return s->nspots;
     case LIST_SUNS: return s->nsuns;
@@ -95,6 +116,7 @@ static int list_id(const lc_scene *s, int j, size_t i)
 {
     switch (j) {
     case LIST_MESHES: return s->meshes[i].id;
+    case LIST_CSGS: return s->csgs[i]->id;
     case LIST_LIGHTS: return s->light_ids[i];
     case LIST_SPOTS: return s->spot_ids[i];
     case LIST_SUNS: return s->sun_ids[i];
@@ -124,6 +146,8 @@ size_t lc_scene_objects(const lc_scene *s, lc_object *out, size_t n)
             shape_object(o, s, (lc_shape_kind)best, i);
         else if (best == LIST_MESHES)
             mesh_object(o, &s->meshes[i]);
+        else if (best == LIST_CSGS)
+            csg_object(o, s->csgs[i]);
         else if (best == LIST_LIGHTS)
             light_object(o, s, i);
         else if (best == LIST_SPOTS)
@@ -146,6 +170,8 @@ lc_status lc_scene_object(const lc_scene *s, int id, lc_object *out, lc_error *e
         }
     if ((i = find_mesh(s, id)) >= 0)
         return mesh_object(out, &s->meshes[i]), error_ok(err), LC_OK;
+    if ((i = find_csg(s, id)) >= 0)
+        return csg_object(out, s->csgs[i]), error_ok(err), LC_OK;
     if ((i = find_id(s->light_ids, s->nlights, id)) >= 0)
         return light_object(out, s, (size_t)i), error_ok(err), LC_OK;
     if ((i = find_id(s->spot_ids, s->nspots, id)) >= 0)
@@ -217,10 +243,17 @@ lc_status lc_scene_remove(lc_scene *s, int id, lc_error *err)
                 (s->nsuns - (size_t)i - 1) * sizeof *s->sun_ids);
         cut(s->suns, &s->nsuns, (size_t)i, sizeof *s->suns);
         break;
+    case LC_OBJECT_CSG:
+        i = find_csg(s, id);
+        csg_free(s->csgs[i]);
+        cut(s->csgs, &s->ncsgs, (size_t)i, sizeof *s->csgs);
+        s->nshapes--;
+        break;
     case LC_OBJECT_MESH:
         i = find_mesh(s, id);
         lc_mesh_free(s->meshes[i].mesh);       /* the scene's hold; the cache has its own */
         mem_free(s->meshes[i].xf);
+        mem_free(s->meshes[i].palette);
         cut(s->meshes, &s->nmeshes, (size_t)i, sizeof *s->meshes);
         s->nshapes--;
         break;

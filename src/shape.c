@@ -15,9 +15,14 @@
 **   5. src/intersect.c: a case in prim_t and prim_finish, the nearest-hit
 **      switch kept there for speed;
 **   6. src/lua_shapes.c: its Lua constructor, lancer.disc{...}, and the
-**      fields it lists.
+**      fields it lists;
+**   7. src/csg.c, if it bounds a solid (CSG takes it as a leaf): a case in
+**      closed_kind and in shape_cross, and, if its geometry is none of
+**      sphere_geom, box_geom and placed_geom, a member in csg_leaf's union
+**      (csg.h).
 ** Scenes store, list, move, bound, remove and sample every kind through
-** this file, so nothing else changes. */
+** this file, so nothing else changes. (PRIM_KINDS is 14: one id is left
+** before the 4 bits are full.) */
 #include <string.h>
 #include "shape.h"
 #include "validate.h"

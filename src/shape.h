@@ -15,6 +15,10 @@
 enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
        PRIM_INSTANCE,       /* a moved mesh: only in BVH refs, never in a hit */
        PRIM_DISC, PRIM_CYLINDER, PRIM_CONE, PRIM_TORUS, PRIM_ELLIPSOID,
+       PRIM_CSG,            /* a CSG object (csg.h): only in BVH refs, never in a hit */
+       PRIM_CSG_FACE,       /* a hit on a CSG object's convex leaf, its normal the
+                            ** leaf's: leaving outward, a ray never meets that leaf */
+       PRIM_CSG_CUT,        /* any other CSG hit (cut faces, concave leaves) */
        PRIM_KINDS };
 #define PRIM_ID(kind, index) (((uint32_t)(kind) << 28) | (uint32_t)(index))
 #define PRIM_KIND(id)        ((unsigned)((id) >> 28))
@@ -25,8 +29,9 @@ enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
 #define PRIM_FLAT ((1u << PRIM_QUAD) | (1u << PRIM_PLANE) | (1u << PRIM_TRIANGLE) | \
                    (1u << PRIM_DISC))
 static inline int prim_flat(unsigned kind) { return (PRIM_FLAT >> kind) & 1; }
-/* Not convex: a ray leaving one outward may meet it again, legitimately. */
-#define PRIM_CONCAVE (1u << PRIM_TORUS)
+/* Not convex: a ray leaving one outward may meet it again, legitimately.
+** A CSG hit names the object and (in hit.instance) the leaf. */
+#define PRIM_CONCAVE ((1u << PRIM_TORUS) | (1u << PRIM_CSG) | (1u << PRIM_CSG_CUT))
 static inline int prim_cannot_return(unsigned kind, int outward)
 {
     return prim_flat(kind) || (outward && !((PRIM_CONCAVE >> kind) & 1));
@@ -348,6 +353,11 @@ int       torus_light_sample(const placed_geom *g, lc_vec3 p, const double u[2],
                              light_sample *out);
 /* The canonical roots (up to 4, ascending) of the ray's quartic in (lo, hi). */
 int       torus_roots(double minor, const ray *r, double lo, double hi, double roots[4]);
+/* Every root beyond tmin at once (CSG leaves want them all: one quartic, not
+** one per root), with the canonical ray in *pr; each root as a hit. */
+int       torus_all_roots(const placed_geom *g, const ray *r, double tmin,
+                          placed_ray *pr, double roots[4]);
+int       torus_root_hit(const placed_geom *g, const placed_ray *pr, double s, hit *h);
 
 /* ellipsoid.c: the unit sphere, placed. */
 lc_status ellipsoid_check(const lc_shape *s, lc_error *err);

@@ -44,6 +44,66 @@ static void bump(const lc_textures *set, int i, double k, hit *h, lc_vec3 q,
         h->ns = v3_mul(bent, 1 / l);
 }
 
+/* The surface's derivatives along its texture coordinates, dp/du and dp/dv,
+** on a mesh face with uvs (in the world); 0 elsewhere. */
+static int uv_tangents(const lc_scene *s, const hit *h, lc_vec3 *pu, lc_vec3 *pv)
+{
+    if (PRIM_KIND(h->shape) != PRIM_TRIANGLE)
+        return 0;
+    const tri_ref *tr = &s->c.tris[PRIM_INDEX(h->shape)];
+    const mesh_prim *mp = &s->meshes[h->instance ? h->instance - 1 : tr->mesh];
+    const lc_mesh *m = mp->mesh;
+    if (!m->uv)
+        return 0;
+    const uint32_t *f = m->f + 3 * (size_t)tr->face;
+    lc_vec3 p[3];
+    double u[3], v[3];
+    for (int k = 0; k < 3; k++) {
+        const double *x = m->v + 3 * (size_t)f[k];
+        p[k] = v3(x[0], x[1], x[2]);
+        u[k] = m->uv[2 * (size_t)f[k]];
+        v[k] = m->uv[2 * (size_t)f[k] + 1];
+    }
+    lc_vec3 d1 = v3_sub(p[1], p[0]), d2 = v3_sub(p[2], p[0]);
+    double du1 = u[1] - u[0], dv1 = v[1] - v[0], du2 = u[2] - u[0], dv2 = v[2] - v[0];
+    double det = du1 * dv2 - dv1 * du2;
+    if (!(fabs(det) > 0))
+        return 0;
+    *pu = v3_mul(v3_sub(v3_mul(d1, dv2), v3_mul(d2, dv1)), 1 / det);
+    *pv = v3_mul(v3_sub(v3_mul(d2, du1), v3_mul(d1, du2)), 1 / det);
+    if (mp->xf) {
+        *pu = lc_transform_vector(&mp->xf->xf, *pu);
+        *pv = lc_transform_vector(&mp->xf->xf, *pv);
+    }
+    return 1;
+}
+
+/* A bump over texture coordinates (Blinn 1978): heights h(u, v) displace
+** the surface along its normal; n + k (h_u (n x p_v) - h_v (n x p_u)) /
+** |p_u x p_v|, the slopes by forward differences in (u, v). */
+static void bump_uv(const lc_scene *s, int i, double k, hit *h, lc_vec3 q,
+                    const double uv[2])
+{
+    lc_vec3 pu, pv;
+    if (!uv_tangents(s, h, &pu, &pv))
+        return;
+    const lc_textures *set = s->textures;
+    double e = textures_step(set, i);
+    double a[2] = {uv[0] + e, uv[1]}, b[2] = {uv[0], uv[1] + e};
+    double h0 = textures_scalar(set, i, h->p, q, uv);
+    double hu = (textures_scalar(set, i, h->p, q, a) - h0) / e;
+    double hv = (textures_scalar(set, i, h->p, q, b) - h0) / e;
+    lc_vec3 n = h->ns;
+    double area = v3_len(v3_cross(pu, pv));
+    if (!(area > 0))
+        return;
+    lc_vec3 d = v3_sub(v3_mul(v3_cross(n, pv), hu), v3_mul(v3_cross(n, pu), hv));
+    lc_vec3 bent = v3_madd(n, d, k / area);
+    double l = v3_len(bent);
+    if (l > 0 && isfinite(l))
+        h->ns = v3_mul(bent, 1 / l);
+}
+
 const lc_material *surface_material(const lc_scene *s, hit *h, const lc_material *m,
                                     lc_material *out)
 {
@@ -72,7 +132,12 @@ const lc_material *surface_material(const lc_scene *s, hit *h, const lc_material
         lc_color c = lc_textures_eval(set, tx[LC_SLOT_EMISSION] - 1, h->p, q, uv);
         out->emission = (lc_color){fmaxf(0, c.r), fmaxf(0, c.g), fmaxf(0, c.b)};
     }
-    if (tx[LC_SLOT_BUMP] && m->bump != 0)
-        bump(set, tx[LC_SLOT_BUMP] - 1, m->bump, h, q, uv);
+    if (tx[LC_SLOT_BUMP] && m->bump != 0) {
+        int b = tx[LC_SLOT_BUMP] - 1;
+        if (textures_use_uv(set, b))
+            bump_uv(s, b, m->bump, h, q, uv);
+        else
+            bump(set, b, m->bump, h, q, uv);
+    }
     return out;
 }

@@ -206,11 +206,22 @@ int torus_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit 
     if (!placed_ray_init(g, r, tmin, tmax, &pr))
         return 0;
     double s = solve(g, &pr);
-    if (!(s > 0))
+    return s > 0 && torus_root_hit(g, &pr, s, h);
+}
+
+int torus_all_roots(const placed_geom *g, const ray *r, double tmin, placed_ray *pr,
+                    double roots[4])
+{
+    if (!placed_ray_init(g, r, tmin, HUGE_VAL, pr))
         return 0;
+    return torus_roots(g->k0, &pr->r, pr->lo, pr->hi, roots);
+}
+
+int torus_root_hit(const placed_geom *g, const placed_ray *pr, double s, hit *h)
+{
     /* Back onto the tube: c the nearest point of the core circle, then the
     ** point at distance r from it; the normal is that direction. */
-    lc_vec3 p = v3_madd(pr.r.o, pr.r.d, s);
+    lc_vec3 p = v3_madd(pr->r.o, pr->r.d, s);
     double rho = sqrt(p.x * p.x + p.y * p.y);
     lc_vec3 c = rho > 0 ? v3(p.x / rho, p.y / rho, 0) : v3(1, 0, 0);
     lc_vec3 n = v3_sub(p, c);
@@ -220,7 +231,7 @@ int torus_hit(const placed_geom *g, const ray *r, double tmin, double tmax, hit 
     n = v3_mul(n, 1 / len);
     p = v3_madd(c, n, g->k0);
     lc_vec3 perr = v3_mul(v3_add(v3_abs(p), v3(1, 1, 1)), vec_gamma(32));
-    placed_finish(g, &pr, s, p, perr, n, h);
+    placed_finish(g, pr, s, p, perr, n, h);
     return 1;
 }
 

@@ -13,7 +13,7 @@ local INTEGERS = {"threads", "prim_tests", "node_tests", "primitives", "bvh_node
                   "degenerate", "self_hits"}
 local NUMBERS = {"seconds", "compile_seconds", "trace_seconds"}
 local OPTIONAL = {{"lua_seconds", "number"}, {"samples", "integer"},
-                  {"converged", "integer"}, {"why", "table"}}
+                  {"converged", "integer"}, {"why", "table"}, {"csg_tests", "integer"}}
 
 local function got(v)
   if v == nil then return "no value" end
@@ -87,6 +87,10 @@ function M.format(st, label)
   add("  tests     %d primitive, %d BVH node (%.1f and %.1f per ray)", st.prim_tests,
       st.node_tests, total > 0 and st.prim_tests / total or 0,
       total > 0 and st.node_tests / total or 0)
+  if (st.csg_tests or 0) > 0 then      -- a scene without CSG pays nothing, shows nothing
+    add("  csg       %d leaf tests in the interval sweeps (%.1f per ray)", st.csg_tests,
+        total > 0 and st.csg_tests / total or 0)
+  end
   add("  scene     %d primitives, %d BVH nodes, %d degenerate triangles skipped, %d self-hits",
       st.primitives, st.bvh_nodes, st.degenerate, st.self_hits)
   for i, e in ipairs(EFFECTS) do

@@ -160,8 +160,9 @@ static void bvh_builds_over_infinite_bounds(void **state)
     assert_int_equal(bvh_build(&b, owned, n, interrupt_count(), &err), LC_OK);
     assert_int_equal(b.nrefs, n);
     for (size_t i = 0; i < b.nnodes; i++)
-        for (int k = 0; k < 3; k++)
-            assert_true(isfinite(b.nodes[i].lo[k]) && isfinite(b.nodes[i].hi[k]));
+        for (uint32_t c = 0; c < b.nodes[i].n; c++)
+            for (int k = 0; k < 3; k++)
+                assert_true(isfinite(b.nodes[i].lo[k][c]) && isfinite(b.nodes[i].hi[k][c]));
     bvh_free(&b);
 }
 

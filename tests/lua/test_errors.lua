@@ -642,13 +642,15 @@ end)
 T.test("scene:add() needs something to add", function()
   local s = lancer.scene{}
   T.check_error(function() s:add() end, HERE, "bad argument #1 to 'add'",
-                "shape, mesh, light, group or array of them expected, got no value")
+                "shape, mesh, light, group, CSG object or array of them expected, "
+                .. "got no value")
 end)
 
 T.test("scene:add rejects what is neither shape, light nor array", function()
   local s = lancer.scene{}
   T.check_error(function() s:add(5) end, HERE, "bad argument #1 to 'add'",
-                "shape, mesh, light, group or array of them expected, got number")
+                "shape, mesh, light, group, CSG object or array of them expected, "
+                .. "got number")
   T.check_error(function() s:add(MATERIAL) end, HERE, "bad argument #1 to 'add'",
                 "got lancer.Material")
   T.check_error(function() s:add(CAMERA) end, HERE, "bad argument #1 to 'add'",
@@ -660,7 +662,8 @@ end)
 T.test("scene:add of an array with a bad element", function()
   local s = lancer.scene{}
   T.check_error(function() s:add({SPHERE, 5}) end, HERE, "bad argument #1 to 'add'",
-                "shape, mesh, light, group or array of them expected, got number")
+                "shape, mesh, light, group, CSG object or array of them expected, "
+                .. "got number")
   T.check_error(function() s:add({LIGHT, {SPHERE, MATERIAL}}) end, HERE,
                 "bad argument #1 to 'add'", "got lancer.Material")
 end)

@@ -137,8 +137,8 @@ T.test("save and load_exr from Lua: float exact, options checked", function()
                 {alpha = true}) end, HERE, "field 'alpha'", "the image has none")
   T.check_error(function() lancer.load_exr(dir .. "/d.png") end, HERE, "'load_exr'",
                 "cannot read '" .. dir .. "/d.png'")
-  T.check_error(function() lancer.merge(dir .. "/m.exr", {dir .. "/f.exr", 3}) end,
-                HERE, "'merge'", "item 2: file name expected, got number")
+  T.check_error(function() lancer.merge_tiles(dir .. "/m.exr", {dir .. "/f.exr", 3}) end,
+                HERE, "'merge_tiles'", "item 2: file name expected, got number")
   os.execute("rm -rf " .. q(dir))
 end)
 

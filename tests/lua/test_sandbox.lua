@@ -218,6 +218,12 @@ T.test("sandbox: reads only below the script's folder; no .. or link out", funct
   img:save(dir .. "/tex_outside.png")
   T.write(dir .. "/scene/sub/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
   T.write(dir .. "/scene/sub/helper.lua", "return 'helper ran'\n")
+  -- Files the binding opens on its own: an OBJ's library and a library's map.
+  T.write(dir .. "/scene/sub/lib.obj", "mtllib /etc/passwd\nv 0 0 0\nv 1 0 0\nv 0 1 0\n" ..
+          "usemtl x\nf 1 2 3\n")
+  T.write(dir .. "/scene/sub/map.mtl", "newmtl x\nmap_Kd ../../tex_outside.png\n")
+  T.write(dir .. "/scene/sub/map.obj", "mtllib map.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n" ..
+          "usemtl x\nf 1 2 3\n")
   local o, e, code = run(dir, "--sandbox", PROBE .. [[
 probe("passwd", function() return assert(io.open("/etc/passwd")):read("a") end)
 probe("passwdopen", function() return io.open("/etc/passwd") end)
@@ -239,6 +245,9 @@ probe("obj", function() return lancer.load_obj("scene/sub/tri.obj") end)
 probe("png", function() return lancer.load_png("scene/tex.png") end)
 probe("helper", function() return dofile("scene/sub/helper.lua") end)
 probe("missing", function() return io.open("scene/missing.txt") end)
+probe("mtllib", function() return lancer.load_obj("scene/sub/lib.obj") end)
+probe("mtlmap", function() return lancer.load_obj("scene/sub/map.obj") end)
+probe("texpath", function() return lancer.image_texture{path = "tex_outside.png"} end)
 ]])
   T.check_exit(code, 0, o, e)
   local folder = output_of("cd " .. q(dir) .. " && pwd -P"):gsub("\n$", "") .. "/scene"
@@ -259,7 +268,10 @@ probe("missing", function() return io.open("scene/missing.txt") end)
     pngout = "bad argument #1 to 'load_png'",
     pnglink = "not reading 'scene/up/tex_outside.png'",
     proc = "not reading '/proc/self/environ'",
-    missing = "scene/missing.txt: No such file or directory"})
+    missing = "scene/missing.txt: No such file or directory",
+    mtllib = "bad argument #1 to 'load_obj' (sandbox: not reading '/etc/passwd'",
+    mtlmap = "sandbox: not reading 'scene/sub/../../tex_outside.png'",
+    texpath = "bad argument #1 to 'image_texture' (sandbox: not reading 'tex_outside.png'"})
   T.eq(got.asset.msg, "an asset", "an asset in the folder")
   T.has(got.obj.msg, "lancer.Mesh (3 vertices, 1 faces)")
   T.has(got.png.msg, "lancer.Image 2x1")

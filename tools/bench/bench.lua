@@ -1,5 +1,6 @@
 -- bench.lua: `make bench`: lancer, POV-Ray 3.7 and Tachyon 0.99 on BENCH.md's
--- scenes, and Embree 3 on the same rays (tools/bench/embree.lua).
+-- scenes and the CSG scene (scenes/csg.lua, against POV-Ray), and Embree 3 on
+-- the same rays (tools/bench/embree.lua).
 --
 -- Usage, from anywhere, after `make all build/bin/lc-runstat`:
 --   build/bin/lancer tools/bench/bench.lua [quick] [case ...]
@@ -53,7 +54,8 @@ local PEER_RUNS = QUICK and 1 or 3
 local PEER_SLOW = 60                  -- s: a peer whose first run is slower runs once
 
 -- The cases, in the order they run. lancer runs scenes/bench/<script>
--- with args plus the output path. tachyon_full: Tachyon only with FULL=1.
+-- with args plus the output path (or `path`, a script elsewhere). tachyon_full:
+-- Tachyon only with FULL=1; povray_only: a scene Tachyon cannot draw (CSG).
 local CASES = {
   {key = "b1", label = "B1 1 spp", scene = scenes.b1, samples = 1,
    script = "b1.lua", args = {"1"}, quick = true},
@@ -71,6 +73,9 @@ local CASES = {
    script = "b3.lua", args = {"707"}, quick = true},
   {key = "b3-4m", label = "B3 4M triangles", scene = scenes.b3, size = 1414, samples = 1,
    script = "b3.lua", args = {"1414"}, tachyon_full = true},
+  -- scenes/csg.lua; Tachyon has no CSG
+  {key = "csg", label = "CSG", scene = scenes.csg, samples = 1, path = "scenes/csg.lua",
+   args = {"1"}, quick = true, povray_only = true},
 }
 
 local function say(fmt, ...)            -- progress on stderr; stdout is the table
@@ -146,6 +151,8 @@ local function run_case(case)
     local runs
     if not peer.present then
       runs = new_runs("missing")
+    elseif peer.name ~= "povray" and case.povray_only then
+      runs = new_runs("n/a")
     elseif peer.name == "tachyon" and case.tachyon_full and not FULL then
       runs = new_runs("skipped")
     else
@@ -161,7 +168,7 @@ local function run_case(case)
 
   -- Interleaved: lancer, povray, tachyon, lancer, povray, tachyon, ...
   local lancer_png = ("%s/%s-lancer.png"):format(OUT, case.key)
-  local argv = {LANCER, "scenes/bench/" .. case.script}
+  local argv = {LANCER, case.path or "scenes/bench/" .. case.script}
   for _, a in ipairs(case.args) do argv[#argv + 1] = a end
   argv[#argv + 1] = lancer_png
   for i = 1, LANCER_RUNS do
@@ -244,7 +251,7 @@ for key in pairs(ONLY or {}) do
   known = known or key == "robust" or key == "parity" or key == "knobs" or
           key == "adaptive" or key == "embree"
   if not known then
-    fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m "
+    fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m csg "
          .. "robust parity knobs adaptive embree)", key)
   end
 end

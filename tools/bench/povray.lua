@@ -67,6 +67,35 @@ local function write_mesh(f, scene, grid)
   f:write(" }\n ", texture(scene.materials[mesh.material]), "\n}\n")
 end
 
+-- A CSG tree (scenes.lua's form): POV-Ray's own CSG of closed leaves, each
+-- leaf with its texture (cut faces take the cutter's, as in lancer).
+local function write_csg(f, node, tex, indent)
+  if node.op then
+    f:write(indent, node.op, " {\n")
+    for _, c in ipairs(node) do write_csg(f, c, tex, indent .. "  ") end
+    f:write(indent, "}\n")
+    return
+  end
+  local t, sh = tex[node.material], node.shape
+  if sh == "box" then
+    f:write(fmt("%sbox { %s, %s %s }\n", indent, vec(node.min), vec(node.max), t))
+  elseif sh == "sphere" then
+    f:write(fmt("%ssphere { %s, %s %s }\n", indent, vec(node.center), num(node.radius),
+                t))
+  elseif sh == "cylinder" then
+    f:write(fmt("%scylinder { %s, %s, %s %s }\n", indent, vec(node.base), vec(node.top),
+                num(node.radius), t))
+  elseif sh == "cone" then
+    f:write(fmt("%scone { %s, %s, %s, %s %s }\n", indent, vec(node.base),
+                num(node.base_radius), vec(node.top), num(node.top_radius), t))
+  elseif sh == "torus" then       -- POV-Ray's torus lies around +y at the origin
+    f:write(fmt("%storus { %s, %s %s translate %s }\n", indent, num(node.major),
+                num(node.minor), t, vec(node.center)))
+  else
+    error("povray.lua: no CSG leaf '" .. tostring(sh) .. "'")
+  end
+end
+
 -- Writes scene to path (through path .. ".tmp", renamed at the end, so a
 -- file that exists is complete). grid is scenes.grid_vertex.
 function P.write(scene, path, grid)
@@ -90,6 +119,7 @@ function P.write(scene, path, grid)
   end
   scene.spheres(function(x, y, z, r, m) f:write(fmt(sfmt, x, y, z, r, tex[m])) end)
   if scene.mesh then write_mesh(f, scene, grid) end
+  for _, tree in ipairs(scene.csg or {}) do write_csg(f, tree, tex, "") end
   assert(f:close())
   assert(os.rename(tmp, path))
 end

@@ -15,6 +15,12 @@
 --   spheres(emit)  calls emit(x, y, z, r, material) for every sphere, in order
 --   sphere_decimals  digits the writers give sphere numbers (nil: full precision)
 --   mesh        nil or {q = Q, height = h(x, z), material} (BENCH.md's B3 grid)
+--   csg         nil or a list of trees: {op = "difference" | "intersection" |
+--               "union" | "merge", operand, ...}, leaves {shape = "box", min, max},
+--               {shape = "sphere", center, radius}, {shape = "cylinder", base,
+--               top, radius}, {shape = "cone", base, top, base_radius,
+--               top_radius} (both capped), {shape = "torus", center, major,
+--               minor} (around +y), each with a material (scenes/csg.lua)
 local M = {}
 
 M.WIDTH, M.HEIGHT = 1280, 720
@@ -119,6 +125,70 @@ function M.b3(q)
     planes = {}, boxes = {},
     spheres = list_emitter{},
     mesh = {q = q, height = height, material = "terrain"},
+  }
+end
+
+-- "CSG": the classic (a box and a sphere intersected, three cylinders drilled
+-- out), a torus ring cut open by a box, a lathe-like stack of cones merged
+-- with a sphere, a die (a cube rounded by a sphere, dimpled by spheres) on
+-- a reflecting floor just below them, two lights. No two surfaces of a tree
+-- coincide: POV-Ray shows noise there, and the comparison is about what
+-- both draw alike. lancer's version is scenes/csg.lua.
+function M.csg()
+  local function m(c, ka, kd, ks, n, kr)
+    return {color = c, ka = ka, kd = kd, ks = ks, n = n, kr = kr}
+  end
+  local function cyl(c, a, r, mat)
+    return {shape = "cylinder", base = {c[1] - a[1], c[2] - a[2], c[3] - a[3]},
+            top = {c[1] + a[1], c[2] + a[2], c[3] + a[3]}, radius = r, material = mat}
+  end
+  local classic = {op = "difference",
+    {op = "intersection",
+     {shape = "box", min = {-1, 0, -1}, max = {1, 2, 1}, material = "red"},
+     {shape = "sphere", center = {0, 1, 0}, radius = 1.32, material = "gold"}},
+    cyl({0, 1, 0}, {1.5, 0, 0}, 0.52, "blue"), cyl({0, 1, 0}, {0, 1.5, 0}, 0.52, "blue"),
+    cyl({0, 1, 0}, {0, 0, 1.5}, 0.52, "blue")}
+  local ring = {op = "difference",
+    {shape = "torus", center = {-3.2, 0.45, 1.2}, major = 1.05, minor = 0.45,
+     material = "green"},
+    {shape = "box", min = {-3.3, -0.5, 1.3}, max = {-1.5, 1.5, 3}, material = "gold"}}
+  local function cone(y0, y1, r0, r1)
+    return {shape = "cone", base = {3.2, y0, 1.2}, top = {3.2, y1, 1.2},
+            base_radius = r0, top_radius = r1, material = "white"}
+  end
+  local lathe = {op = "merge",
+    cone(0, 0.25, 0.9, 0.8), cone(0.22, 1.3, 0.75, 0.3), cone(1.25, 1.6, 0.32, 0.55),
+    cone(1.55, 2.3, 0.5, 0.15),
+    {shape = "sphere", center = {3.2, 2.45, 1.2}, radius = 0.28, material = "white"}}
+  local die = {op = "difference",
+    {op = "intersection",
+     {shape = "box", min = {-2.5, 0, -3.4}, max = {-1.1, 1.4, -2},
+      material = "white"},
+     {shape = "sphere", center = {-1.8, 0.7, -2.7}, radius = 0.95, material = "white"}},
+    {shape = "sphere", center = {-1.8, 0.7, -3.65}, radius = 0.33, material = "red"},
+    {shape = "sphere", center = {-2.1, 1.65, -3.0}, radius = 0.3, material = "red"},
+    {shape = "sphere", center = {-1.5, 1.65, -2.4}, radius = 0.3, material = "red"},
+    {shape = "sphere", center = {-0.85, 0.4, -3.0}, radius = 0.28, material = "red"},
+    {shape = "sphere", center = {-0.85, 1.0, -2.4}, radius = 0.28, material = "red"}}
+  return {
+    name = "csg",
+    camera = {eye = {0.6, 4.4, -8.5}, target = {0, 0.9, 0}, up = {0, 1, 0}, hfov = 62},
+    width = M.WIDTH, height = M.HEIGHT, depth = 3, background = {0.45, 0.55, 0.7},
+    lights = {{position = {-5, 9, -7}, color = {0.8, 0.8, 0.8}},
+              {position = {6, 5, -3}, color = {0.35, 0.3, 0.25}}},
+    materials = {
+      floor = m({0.7, 0.7, 0.68}, 0.1, 0.7, 0, 0, 0.25),
+      red   = m({0.85, 0.2, 0.15}, 0.1, 0.8, 0.4, 40, 0),
+      gold  = m({0.9, 0.7, 0.25}, 0.1, 0.8, 0.6, 60, 0),
+      blue  = m({0.2, 0.4, 0.9}, 0.1, 0.8, 0, 0, 0),
+      green = m({0.25, 0.75, 0.35}, 0.1, 0.8, 0.3, 30, 0),
+      white = m({0.92, 0.92, 0.9}, 0.1, 0.8, 0.5, 50, 0.15),
+    },
+    -- just under the solids standing on it: no face of theirs lies in it
+    planes = {{point = {0, -0.01, 0}, normal = {0, 1, 0}, material = "floor"}},
+    boxes = {},
+    spheres = list_emitter{},
+    csg = {classic, ring, lathe, die},
   }
 end
 
