@@ -372,6 +372,11 @@ static int host_setup(lua_State *L)
     set_boolean(L, "stats", cl->stats);
     set_boolean(L, "repl", repl);
     set_boolean(L, "code", cl->nchunks > 0);
+    set_boolean(L, "watch", cl->watch);
+    if (cl->progress) {
+        lua_pushstring(L, cl->progress);
+        lua_setfield(L, -2, "progress");
+    }
     if (cl->script > 0) {
         lua_pushstring(L, cl->script_stdin ? "stdin" : cl->argv[cl->script]);
         lua_setfield(L, -2, "script");
@@ -385,6 +390,13 @@ static int host_setup(lua_State *L)
         lua_setfield(L, -2, "accuracy");
     }
     lua_call(L, 1, 2);
+    if (cl->watch) {                  /* what --watch draws with */
+        host_module_field(L, "lancer.watch", "start");
+        lua_pushboolean(L, isatty(STDOUT_FILENO));
+        lua_pushcfunction(L, repl_terminal_size);
+        lua_call(L, 2, 0);
+        lua_pop(L, 1);
+    }
     return 2;
 }
 
@@ -546,13 +558,59 @@ static int pmain(lua_State *L)
     return 1;
 }
 
+/* The files the script read that --watch watches (lancer.watch.files), as
+** a NULL-ended array of malloc'd strings in *files; protected. */
+static int watched_files(lua_State *L)
+{
+    char ***files = lua_touserdata(L, 1);
+    host_module_field(L, "lancer.watch", "files");
+    int n = (int)luaL_len(L, -1);
+    char **f = calloc((size_t)n + 1, sizeof *f);
+    if (!f)
+        return luaL_error(L, "not enough memory");
+    *files = f;
+    for (int k = 0; k < n; k++) {
+        lua_rawgeti(L, -1, k + 1);
+        const char *path = lua_tostring(L, -1);
+        if (path && (f[k] = strdup(path)) == NULL)
+            return luaL_error(L, "not enough memory");
+        lua_pop(L, 1);
+    }
+    return 0;
+}
+
+/* One run of the command in a fresh state; 1 when it ended well. With
+** files, also the files the script read (--watch). */
+static int run_once(struct cmdline *cl, char ***files)
+{
+    struct caps caps;
+    const struct caps *capped = command_caps(cl, &caps);
+    lua_State *L = capped ? caps_newstate(capped) : luaL_newstate();
+    int status, ok;
+    if (L == NULL) {
+        fprintf(stderr, "lancer: cannot create the Lua state: not enough memory\n");
+        return 0;
+    }
+    lua_gc(L, LUA_GCSTOP);              /* no collection while building state */
+    lua_pushcfunction(L, pmain);
+    lua_pushlightuserdata(L, cl);
+    status = lua_pcall(L, 1, 1, 0);
+    ok = lua_toboolean(L, -1);
+    host_report(L, status);
+    if (files) {
+        lua_pushcfunction(L, watched_files);
+        lua_pushlightuserdata(L, files);
+        if (lua_pcall(L, 1, 0, 0) != LUA_OK)
+            host_report(L, LUA_ERRRUN);
+    }
+    cl->timed_out = caps_close(L);      /* lua_close, for a plain state too */
+    return ok && status == LUA_OK;
+}
+
 int main(int argc, char **argv)
 {
     struct cmdline cl;
-    struct caps caps;
-    const struct caps *capped;
-    lua_State *L;
-    int status, ok, parsed, timed_out;
+    int ok, parsed;
 
     memset(&cl, 0, sizeof cl);
     cl.argc = argc;
@@ -586,8 +644,11 @@ int main(int argc, char **argv)
         parsed = args_check_accuracy(&cl);
     if (parsed == PARSE_RUN)
         parsed = args_check_limits(&cl);
-    if (parsed != PARSE_RUN || cl.merge) {
-        int code = parsed != PARSE_RUN ? (parsed == PARSE_DONE ? 0 : 2) : merge_run(&cl);
+    if (parsed == PARSE_RUN)
+        parsed = args_check_watch(&cl);
+    if (parsed != PARSE_RUN || cl.merge || cl.watch) {
+        int code = parsed != PARSE_RUN ? (parsed == PARSE_DONE ? 0 : 2)
+                 : cl.merge ? merge_run(&cl) : watch_run(&cl, run_once);
         free(cl.chunks);
         free(cl.anim.frames);
         free(cl.anim.frame_flags);
@@ -595,32 +656,16 @@ int main(int argc, char **argv)
         return code;
     }
 
-    capped = command_caps(&cl, &caps);
-    L = capped ? caps_newstate(capped) : luaL_newstate();
-    if (L == NULL) {
-        fprintf(stderr, "lancer: cannot create the Lua state: not enough memory\n");
-        free(cl.chunks);
-        free(cl.anim.frames);
-        free(cl.anim.frame_flags);
-        free(cl.defines);
-        return 1;
-    }
-    lua_gc(L, LUA_GCSTOP);              /* no collection while building state */
-    lua_pushcfunction(L, pmain);
-    lua_pushlightuserdata(L, &cl);
-    status = lua_pcall(L, 1, 1, 0);
-    ok = lua_toboolean(L, -1);
-    host_report(L, status);
-    timed_out = caps_close(L);          /* lua_close, for a plain state too */
+    ok = run_once(&cl, NULL);
     free(cl.chunks);
     free(cl.anim.frames);
     free(cl.anim.frame_flags);
     free(cl.defines);
-    if (timed_out)
+    if (cl.timed_out)
         return 4;
     if (cl.unstable)
         return 3;
     if (cl.late_usage)
         return 2;
-    return ok && status == LUA_OK ? 0 : 1;
+    return ok ? 0 : 1;
 }

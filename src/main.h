@@ -59,6 +59,10 @@ struct cmdline {
     int has_region;
     int tile_k, tile_n;     /* --tile K/N; tile_n 0: not given */
     int merge;              /* --merge: argv index of OUT; 0: not given */
+    const char *progress;   /* --progress MODE: "bar", "lines" or "none"; NULL: not
+                            ** given (the bar on a terminal) */
+    int watch;              /* --watch: run the script again on each change */
+    int timed_out;          /* the run reached --max-seconds: exit 4 */
 };
 
 /* What parsing the command line says to do next. */
@@ -68,6 +72,7 @@ enum { PARSE_RUN, PARSE_DONE, PARSE_USAGE };
 int         args_parse(struct cmdline *cl);          /* PARSE_*; usage errors printed */
 int         args_check_accuracy(const struct cmdline *cl);
 int         args_check_limits(const struct cmdline *cl);
+int         args_check_watch(const struct cmdline *cl);
 /* Prints "lancer: " fmt (with what) and a hint; returns PARSE_USAGE. */
 int         args_usage_error(const char *fmt, const char *what);
 /* Checks a --frames list; with L, appends {A, B, STEP, option = flag} items
@@ -129,5 +134,13 @@ int defines_set(lua_State *L);
 
 /* main_repl.c: the interactive prompt. */
 void repl_run(lua_State *L);
+/* Columns and rows of the terminal on stdout, asked each time; nothing when
+** it is not one. A lua_CFunction, for lancer.repl and lancer.watch. */
+int  repl_terminal_size(lua_State *L);
+
+/* main_watch.c: lancer --watch: runs the script through run_once (a fresh
+** state each time, 1 when it ran clean) whenever a file it read changes, until
+** Ctrl-C; the exit status. */
+int watch_run(struct cmdline *cl, int (*run_once)(struct cmdline *cl, char ***files));
 
 #endif

@@ -25,7 +25,8 @@ static void print_usage(void)
 "  lancer scene.lua a b          the script sees arg[1] == 'a', arg[2] == 'b'\n"
 "  lancer - < scene.lua          read the script from standard input\n"
 "  lancer -e 'print(lancer.version)'\n"
-"  lancer -i scene.lua           run scene.lua, then the interactive prompt\n"
+"  lancer -i scene.lua           run scene.lua, then the interactive prompt\n""  lancer --watch scene.lua out.png\n"
+"                                run it again on each save, drawn in the terminal\n"
 "  lancer --check scene.lua      is the scene numerically stable?\n"
 "  lancer --video orbit.mp4 orbit.lua\n"
 "                                render an animation's frames, then an mp4\n"
@@ -58,6 +59,15 @@ static void print_usage(void)
 "                reads as a Lua number (2, 0.5, 1e3, 0x10), else the string\n"
 "                (may be repeated; NAME may not be a global Lua already has)\n"
 "  --stats       print each render's ledger: rays by kind, tests, phases, effects\n"
+"  --progress MODE\n"
+"                bar (by default when stderr is a terminal), none, or lines: one\n"
+"                'progress N/100' line on stderr per batch of finished tiles that\n"
+"                takes the render past another whole percent, 0/100 to 100/100,\n"
+"                for render farm managers reading a log\n"
+"  --watch       run the script, then again each time it or a file it loaded\n"
+"                (dofile, loadfile, require) changes, its renders drawn in the\n"
+"                terminal pass by pass; an error keeps the last picture. Ctrl-C\n"
+"                quits\n"
 "  --check       render each image small at scales 1e-3, 1, 1e3 and moved 1e6\n"
 "                away; report differing pixels, NaN and self-hits (exit 3 if\n"
 "                the scene is numerically unstable). Writes none of the images\n"
@@ -136,7 +146,8 @@ static const char *const long_options[] = {
     "--shard", "--skip-existing", "--list-frames", "--video", "--output",
     "--accuracy", "--knob", "--seeds", "--out", "--sandbox", "--sandbox-out",
     "--max-memory", "--max-seconds", "--allow-bytecode", "--help", "--version",
-    "--seed", "--threads", "--region", "--tile", "--merge", NULL};
+    "--seed", "--threads", "--region", "--tile", "--merge", "--progress", "--watch",
+    NULL};
 
 /* argv's word without its "=value". */
 static void option_name(const char *arg, char *out, size_t n)
@@ -583,6 +594,38 @@ static int parse_tile(struct cmdline *cl, int *i)
     return PARSE_RUN;
 }
 
+/* "--progress MODE": bar, lines or none. */
+static int parse_progress(struct cmdline *cl, int *i)
+{
+    static const char *const modes[] = {"bar", "lines", "none", NULL};
+    const char *v = option_value(cl, i, "--progress");
+    if (v == NULL || *v == '\0')
+        return args_usage_error("option '%s' needs a value", "--progress");
+    for (int k = 0; modes[k]; k++)
+        if (strcmp(v, modes[k]) == 0) {
+            cl->progress = modes[k];
+            return PARSE_RUN;
+        }
+    return bad_value("--progress", "bar, lines or none", v);
+}
+
+/* What --watch goes with: a script file, and nothing that writes or
+** reports something else than the script's images. */
+int args_check_watch(const struct cmdline *cl)
+{
+    if (!cl->watch)
+        return PARSE_RUN;
+    if (cl->script == 0 || cl->script_stdin)
+        return args_usage_error("option '%s' needs a script file to watch", "--watch");
+    const char *other = cl->interactive ? "-i" : cl->check ? "--check"
+                      : cl->accuracy ? "--accuracy" : cl->anim.first ? cl->anim.first
+                      : cl->sandbox ? "--sandbox" : cl->max_seconds > 0 ? "--max-seconds"
+                      : NULL;
+    if (other)
+        return args_usage_error("option '--watch' cannot go with %s", other);
+    return PARSE_RUN;
+}
+
 /* Checks every option before anything runs, so a typo costs no render. */
 int args_parse(struct cmdline *cl)
 {
@@ -660,6 +703,10 @@ int args_parse(struct cmdline *cl)
             st = parse_region(cl, &i);
         } else if (is_opt(a, "--tile")) {
             st = parse_tile(cl, &i);
+        } else if (is_opt(a, "--progress")) {
+            st = parse_progress(cl, &i);
+        } else if (strcmp(a, "--watch") == 0) {
+            cl->watch = 1;
         } else if (strcmp(a, "--merge") == 0) {
             if (argv[i + 1] == NULL || argv[i + 2] == NULL)
                 return args_usage_error("option '%s' needs OUT and at least one part",

@@ -174,7 +174,7 @@ static void l_print(lua_State *L)
 
 /* lancer.repl.terminal_size(): columns and rows of the terminal on stdout,
 ** asked each time (it may have been resized); nothing when it is not one. */
-static int terminal_size(lua_State *L)
+int repl_terminal_size(lua_State *L)
 {
     struct winsize ws;
     if (ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) != 0 || ws.ws_col == 0 || ws.ws_row == 0)
@@ -189,8 +189,17 @@ static int repl_start(lua_State *L)
 {
     host_module_field(L, "lancer.repl", "start");
     lua_pushboolean(L, isatty(STDOUT_FILENO));
-    lua_pushcfunction(L, terminal_size);
+    lua_pushcfunction(L, repl_terminal_size);
     lua_call(L, 2, 0);
+    return 0;
+}
+
+/* After a line that failed: lancer.repl keeps what a stopped render left. */
+static int repl_after_error(lua_State *L)
+{
+    host_module_field(L, "lancer.repl", "after_error");
+    if (lua_isfunction(L, -1))
+        lua_call(L, 0, 0);
     return 0;
 }
 
@@ -216,10 +225,13 @@ void repl_run(lua_State *L)
         }
         if (status == LUA_OK)
             status = host_docall(L, 0, LUA_MULTRET);
-        if (status == LUA_OK)
+        if (status == LUA_OK) {
             l_print(L);
-        else
+        } else {
             host_report(L, status);
+            lua_pushcfunction(L, repl_after_error);
+            host_report(L, host_docall(L, 0, 0));
+        }
     }
     sigaction(SIGINT, &old, NULL);
     history_close();

@@ -10,6 +10,8 @@
 #define REDRAW  0.1    /* at most ten redraws a second */
 #define WIDTH   30
 
+static void line(progress_bar *p, double done);
+
 void progress_bar_begin(progress_bar *p, int mode)
 {
     memset(p, 0, sizeof *p);
@@ -22,9 +24,11 @@ void progress_bar_begin(progress_bar *p, int mode)
     p->mode = mode;
     p->percent = -1;
     p->start = p->last = clock_seconds();
+    if (mode == PROGRESS_LINES)
+        line(p, 0);                 /* a render has begun, however short */
 }
 
-/* "progress N/100" when N passed the last line's; 0 is written at once. */
+/* "progress N/100" when N passed the last line's. */
 static void line(progress_bar *p, double done)
 {
     int n = done >= 1 ? 100 : done > 0 ? (int)(done * 100) : 0;

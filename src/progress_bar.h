@@ -4,11 +4,12 @@
 #ifndef PROGRESS_BAR_H
 #define PROGRESS_BAR_H
 
-/* What progress_bar_begin shows: nothing, the bar, or one "progress N/100"
-** line each time the share of the render done passes another whole
-** percent (for render farm managers that read a log: parseable, and at
-** most 101 lines a render); PROGRESS_AUTO is the bar when stderr is a
-** terminal (and TERM is not dumb), after the first second, else nothing. */
+/* What progress_bar_begin shows: nothing, the bar, or lines "progress N/100"
+** (for render farm managers that read a log): 0/100 at once, then one each
+** time a batch of finished tiles (polled every 0.1 s) takes the share done
+** past another whole percent, at most 101 a render. PROGRESS_AUTO is the
+** bar when stderr is a terminal (and TERM is not dumb), after the first
+** second, else nothing. */
 enum { PROGRESS_NONE, PROGRESS_BAR, PROGRESS_LINES, PROGRESS_AUTO };
 
 typedef struct {

@@ -11,7 +11,10 @@
 --     (--accuracy), and then writes none of the images the script saves:
 --     its files stay as they were (check and accuracy write their own);
 --   * prints each render's ledger (--stats), and gives each render to
---     M.on_render (the prompt's preview and save, lua/lancer/repl.lua);
+--     M.on_render (the prompt's preview and save, lua/lancer/repl.lua, and
+--     --watch's, lua/lancer/watch.lua); with M.on_pass set (by those two),
+--     renders are progressive and M.on_pass sees each pass;
+--   * replaces each render's progress option with --progress's;
 --   * with frame options, refuses renders and saves outside lancer.animate
 --     (a usage error, exit 2) before anything is written.
 -- Stock lua5.4 never loads this module: require "lancer" sets no hook.
@@ -22,6 +25,7 @@ local anim = require "lancer.anim"
 local require, exit = require, os.exit
 
 -- setup's options: width, height, samples, seed, threads (integers or nil),
+-- progress ("bar", "lines", "none" or nil), watch (--watch),
 -- region ({x0, y0, x1, y1} or nil), tile ({K, N} or nil), check, stats,
 -- repl (the prompt follows the script), code (-e code is run), script (its
 -- name, or nil for -e code), anim (the frame options, as lancer.anim.options
@@ -40,15 +44,41 @@ function M.usage(msg)
   exit(2, true)
 end
 
+-- --progress MODE as the render option progress.
+local PROGRESS = {bar = true, none = false, lines = "lines"}
+
 -- The options as the script gave them, with the command line's.
 local function sized(opts)
   local o = M.options
-  if not (o.width or o.height or o.samples or o.seed or o.threads) then return opts end
+  if not (o.width or o.height or o.samples or o.seed or o.threads or o.progress) then
+    return opts
+  end
   local t = {}
   for k, v in pairs(opts) do t[k] = v end
   t.width, t.height, t.samples = o.width or t.width, o.height or t.height,
                                  o.samples or t.samples
   t.seed, t.threads = o.seed or t.seed, o.threads or t.threads
+  if o.progress then t.progress = PROGRESS[o.progress] end
+  return t
+end
+
+-- The prompt and --watch draw each pass (M.on_pass, set by lancer.repl or
+-- lancer.watch): the renders they see are progressive, unless the script
+-- says progressive = false, their on_pass called before the script's own.
+-- Bad values are left for render to report.
+local function drawn(opts)
+  local draw, own = M.on_pass, opts.on_pass
+  if not draw or opts.progressive == false or (opts.progressive ~= nil and
+     opts.progressive ~= true) or (own ~= nil and type(own) ~= "function") then
+    return opts
+  end
+  local t = {}
+  for k, v in pairs(opts) do t[k] = v end
+  t.progressive = true
+  t.on_pass = function(img, pass, st)
+    draw(img, pass, st)
+    if own then return own(img, pass, st) end
+  end
   return t
 end
 
@@ -136,7 +166,7 @@ function M.hook(method, plain, self, what, ...)
     M.diverted = false
     if not ok then error(img, 0) end
   else
-    img, st = plain(self, part_of(sized(what)))
+    img, st = plain(self, drawn(part_of(sized(what))))
   end
   if o.stats then require("lancer.ledger").report(st) end
   if M.on_render then M.on_render(img, st) end

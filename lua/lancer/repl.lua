@@ -1,8 +1,10 @@
 -- lancer.repl: what the lancer command's prompt adds. Every render shows a
 -- preview in the terminal (when standard output is one, NO_COLOR is unset
 -- and TERM is not dumb) and is saved to out/repl_001.png, out/repl_002.png,
--- ..., the path printed. Globals for the prompt: lancer, show(img),
--- ls(scene). Settings live in this table (lancer.repl at the prompt):
+-- ..., the path printed. When a preview shows, renders are progressive and
+-- the picture is redrawn after each pass; a render Ctrl-C stops keeps the
+-- image of its last pass (repl.kept, saved as the others). Globals for the
+-- prompt: lancer, show(img), ls(scene). Settings live in this table (lancer.repl at the prompt):
 --   repl.save = "out/repl_%03d.png"   -- or false: save nothing
 --   repl.preview = true               -- false: no picture in the terminal
 local lancer = require "lancer"
@@ -24,10 +26,19 @@ local function no_preview()
   if not preview.wanted() then return "NO_COLOR is set or TERM is dumb" end
 end
 
-local function draw(img)
+-- The lines of the picture last drawn, and the pass it showed (nil: none,
+-- or not drawn pass by pass).
+local drawn_lines, drawn = 0, nil
+
+-- Draws img; with over, over the picture drawn last (the cursor is just
+-- under it: ESC[nF goes n lines up, to their start).
+local function draw(img, over)
   local cols, rows = M.terminal_size()
-  io.write(preview.text(img, {columns = cols or 80, rows = (rows or 24) - 3,
-                              truecolor = preview.truecolor()}))
+  local text = preview.text(img, {columns = cols or 80, rows = (rows or 24) - 3,
+                                  truecolor = preview.truecolor()})
+  if over and drawn_lines > 0 then io.write(("\27[%dF"):format(drawn_lines)) end
+  drawn_lines = select(2, text:gsub("\n", ""))
+  io.write(text)
   io.flush()
 end
 
@@ -67,18 +78,54 @@ local function next_path()
   return path
 end
 
+-- The last pass of the render under way: {img, pass, samples}; nil when none.
+local partial = nil
+
+-- lancer.host.on_pass, while a preview can be drawn: each pass of a render
+-- at the prompt redraws the picture over the last one. The image is kept
+-- first, so that a Ctrl-C in the drawing still keeps it.
+local function on_pass(img, pass, stats)
+  partial = {img = img, pass = pass, samples = stats.samples}
+  if not M.preview or no_preview() then return end
+  draw(img, pass > 1)
+  drawn = {passes = pass, samples = stats.samples}
+end
+
+local function save(img, what)
+  if not M.save or anim.busy then return end    -- animate saves its own frames
+  local path = next_path()
+  local ok, err = pcall(img.save, img, path)
+  if ok then
+    print(("saved %s (%dx%d, %s)"):format(path, img.width, img.height, what))
+  else
+    print("not saved: " .. tostring(err))
+  end
+end
+
 -- lancer.host.on_render: called by every render made at the prompt.
 function M.on_render(img, stats)
-  if M.preview and not no_preview() then draw(img) end
-  if M.save and not anim.busy then       -- animate saves its own frames
-    local path = next_path()
-    local ok, err = pcall(img.save, img, path)
-    if ok then
-      print(("saved %s (%dx%d, %.2f s)"):format(path, img.width, img.height, stats.seconds))
-    else
-      print("not saved: " .. tostring(err))
-    end
+  partial = nil
+  local last = drawn
+  drawn = nil
+  if M.preview and not no_preview() and not (last and last.passes == stats.passes and
+                                             last.samples == stats.samples) then
+    draw(img)                             -- not drawn pass by pass, or not its last
   end
+  save(img, ("%.2f s"):format(stats.seconds))
+end
+
+-- Called by the lancer command after a line that failed. A progressive
+-- render stopped there (Ctrl-C, an error in its on_pass) leaves the image
+-- of its last pass: the best so far, kept as repl.kept and saved.
+function M.after_error()
+  local p = partial
+  partial, drawn = nil, nil
+  if not p then return end
+  M.kept = p.img
+  local spp = p.samples / (p.img.width * p.img.height)
+  print(("kept the image after pass %d (%.4g samples per pixel) as lancer.repl.kept")
+    :format(p.pass, spp))
+  save(p.img, ("pass %d"):format(p.pass))
 end
 
 -- One line for an object: its own __tostring, or for a plain record its
@@ -121,7 +168,9 @@ end
 function M.start(tty, terminal_size)
   M.tty = tty
   if terminal_size then M.terminal_size = terminal_size end
-  require("lancer.host").on_render = M.on_render
+  local host = require "lancer.host"
+  host.on_render = M.on_render
+  if not no_preview() then host.on_pass = on_pass end
   lancer.repl = M
   _G.lancer = _G.lancer or lancer
   _G.show = _G.show or M.show

@@ -94,6 +94,39 @@ T.test("REPL: Ctrl-C cancels a render and the prompt goes on", function()
   assert(seconds < 10, ("the session took %d s"):format(seconds))
 end)
 
+T.test("REPL: the preview refines pass by pass; Ctrl-C keeps the last pass", function()
+  local busy = os.tmpname()
+  os.remove(busy)
+  -- Pass 2 of 4096 samples touches the file; the passes after it take minutes.
+  local out, dir, seconds = repl({SCENE, ADD,
+    "img = s:render{width = 16, height = 8, samples = 4}\n",
+    ("img = s:render{width = 200, height = 100, samples = 4096, progressive = true, " ..
+     "on_pass = function(_, p) " ..
+     "if p == 2 then io.open(%q, 'w'):close() end end}\n"):format(busy),
+    {wait = busy}, "\3", "print('kept', lancer.repl.kept, img)\n"},
+    "TERM=xterm-256color COLORTERM=truecolor")
+  os.remove(busy)
+  -- 4 samples: passes of 1, 2 and 4, each drawn over the last (ESC[4F: the
+  -- 4 lines of a 16x8 picture up), and the final image not drawn again.
+  local first = out:match("samples = 4}(.-)saved out/repl_001.png")
+  assert(first, "no first render in:\n" .. out)
+  local _, cells = first:gsub(TRUECOLOR_CELL, "")
+  T.eq(cells, 3 * 16 * 4, "cells drawn by 3 passes")
+  local _, ups = first:gsub("\27%[4F", "")
+  T.eq(ups, 2, "redraws over the picture")
+  -- Cancelled while tracing, or interrupted in the preview's drawing.
+  assert(out:find("stdin:1: render cancelled", 1, true) or out:find("interrupted!", 1, true),
+         "not cancelled:\n" .. out)
+  has(out, "kept the image after pass ")
+  has(out, "saved out/repl_002.png (200x100, pass ")
+  assert(out:find("\nkept\tlancer.Image 200x100\tlancer.Image 16x8\r?\n"),
+         "repl.kept is not the image, or img was assigned:\n" .. out)
+  local png = T.slurp(dir .. "/out/repl_002.png")
+  assert(png and #png > 100, "the kept image was not saved")
+  os.execute("rm -rf " .. q(dir))
+  assert(seconds < 15, ("the session took %d s"):format(seconds))
+end)
+
 -- ---- In this process ---------------------------------------------------------
 
 -- A render whose every pixel is the background colour.
