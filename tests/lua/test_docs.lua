@@ -63,6 +63,7 @@ local NORUN = {
   ssh = "needs render hosts reachable over ssh",
   sbatch = "needs a Slurm cluster; the job script itself runs here as task 0",
   listing = "a listing or a formula, not a program",
+  watch = "runs until Ctrl-C (tests/lua/test_watch.lua drives it on a pseudo-terminal)",
 }
 
 -- Changes known to be coming (issue 10, made on another branch): blocks
