@@ -238,6 +238,105 @@ static int count_calls(void *ud, double done)
     return 0;
 }
 
+/* What on_pass saw: the passes, the samples so far, a copy of pass 2. */
+typedef struct {
+    int       calls, stop_at;
+    uint64_t  samples[8];
+    lc_image *second;
+} passes_seen;
+
+static int note_pass(void *ud, const lc_image *img, int pass, const struct lc_stats *st)
+{
+    passes_seen *p = ud;
+    assert_int_equal(pass, p->calls + 1);
+    assert_int_equal(st->passes, pass);
+    if (p->calls < 8)
+        p->samples[p->calls] = st->samples;
+    p->calls++;
+    if (pass == 2) {
+        lc_error err;
+        p->second = lc_image_copy(img, &err);
+        assert_non_null(p->second);
+    }
+    return pass == p->stop_at;
+}
+
+static int same_pixels(const lc_image *a, const lc_image *b)
+{
+    for (int y = 0; y < lc_image_height(a); y++)
+        for (int x = 0; x < lc_image_width(a); x++) {
+            lc_color p = lc_image_get(a, x, y), q = lc_image_get(b, x, y);
+            if (memcmp(&p, &q, sizeof p) != 0)
+                return 0;
+        }
+    return 1;
+}
+
+/* A progressive render: passes of 1, 2, 4, 6 samples (6 in all), each seen
+** by on_pass; the final image the plain render's bit for bit; a nonzero
+** return stops after that pass with st.stopped and the image of that pass. */
+static void progressive_passes(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_scene *s = lc_scene_new(&err);
+    lc_camera cam = {{0, 1, -4}, {0, 1, 0}, {0, 1, 0}, 50, 0, 0};
+    lc_scene_set_camera(s, &cam, &err);
+    lc_material m = lc_material_default();
+    m.kr = 0.3;
+    int mi = lc_scene_add_material(s, &m, &err);
+    lc_shape ball = {.kind = LC_SPHERE, .p = {0, 1, 0}, .radius = 1};
+    lc_scene_add_shape(s, &ball, mi, &err);
+    lc_point_light l = {{2, 4, -3}, {1, 1, 1}, 25, LC_FALLOFF_INVERSE_SQUARE};
+    lc_scene_add_light(s, &l, &err);
+    lc_render_options o = lc_render_options_default();
+    o.width = 20;
+    o.height = 12;
+    o.samples = 6;
+    lc_stats st;
+    lc_image *plain = lc_scene_render(s, &o, &st, &err);
+    assert_non_null(plain);
+    assert_int_equal(st.passes, 1);
+
+    passes_seen p = {0, 0, {0}, NULL};
+    o.progressive = 1;
+    o.on_pass = note_pass;
+    o.on_pass_ud = &p;
+    lc_image *img = lc_scene_render(s, &o, &st, &err);
+    assert_non_null(img);
+    assert_int_equal(p.calls, 4);
+    assert_int_equal(st.passes, 4);
+    assert_int_equal(st.stopped, 0);
+    const uint64_t want[4] = {240, 480, 960, 1440};   /* 20 x 12 pixels x 1, 2, 4, 6 */
+    for (int k = 0; k < 4; k++)
+        assert_int_equal(p.samples[k], want[k]);
+    assert_true(same_pixels(img, plain));
+    lc_image_free(img);
+
+    lc_image *second = p.second;
+    passes_seen q = {0, 2, {0}, NULL};
+    o.on_pass_ud = &q;
+    img = lc_scene_render(s, &o, &st, &err);
+    assert_non_null(img);
+    assert_int_equal(st.passes, 2);
+    assert_int_equal(st.stopped, 1);
+    assert_int_equal(st.samples, 480);
+    assert_true(same_pixels(img, second));
+    assert_false(same_pixels(img, plain));
+    lc_image_free(img);
+    lc_image_free(second);
+    lc_image_free(q.second);
+
+    o.progressive = 2;
+    assert_null(lc_scene_render(s, &o, &st, &err));
+    assert_string_equal(err.field, "progressive");
+    o.progressive = 0;
+    assert_null(lc_scene_render(s, &o, &st, &err));
+    assert_string_equal(err.field, "on_pass");
+    lc_image_free(plain);
+    lc_scene_free(s);
+}
+
 /* The progress callback is called at least once per render, however soon
 ** the workers finish: a 1x1 render used to end before the first wait and
 ** never call it (the manual's "stop halfway" example then failed). */
@@ -272,6 +371,7 @@ int main(void)
         cmocka_unit_test(dark_renders_warn),
         cmocka_unit_test(defaults_and_rules_live_in_the_core),
         cmocka_unit_test(progress_can_cancel),
+        cmocka_unit_test(progressive_passes),
         cmocka_unit_test(interrupt_cancels_running_renders_only),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
