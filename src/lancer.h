@@ -66,11 +66,15 @@ typedef enum { LC_SHADOW_FILTERED, LC_SHADOW_OPAQUE } lc_shadow_mode;
 
 /* What a texture may stand for in a material (see Textures below): the
 ** colour, a coefficient (its luminance, clamped to [0, 1]), the emission,
-** or the height whose slope bends the shading normal. */
+** the height whose slope bends the shading normal, or a tangent-space
+** normal map (on mesh faces with uvs). */
 typedef enum {
     LC_SLOT_COLOR, LC_SLOT_KD, LC_SLOT_KS, LC_SLOT_KR, LC_SLOT_KT, LC_SLOT_EMISSION,
-    LC_SLOT_BUMP, LC_SLOTS
+    LC_SLOT_BUMP, LC_SLOT_NORMAL, LC_SLOTS
 } lc_slot;
+
+/* The material field a slot stands for: "color", "kd", ..., "bump", "normal_map". */
+const char *lc_slot_name(lc_slot slot);
 
 typedef struct {
     lc_color  color;     /* C: absorption, every component in [0, 1] */
@@ -99,6 +103,8 @@ typedef struct {
                             ** own value. Shadow rays and light sampling see the
                             ** constant kt and emission. */
     double    bump;         /* the bump texture's height scale, in [-1e6, 1e6] */
+    double    normal_scale; /* the normal map's strength: its tangent components
+                            ** times this, in [0, 1e6] (1: as the map says) */
 } lc_material;
 
 #define LC_MAX_CONE_SAMPLES 4096
@@ -208,6 +214,7 @@ typedef struct {
     int      illum;            /* illum, -1 when absent */
     char     map_kd[LC_MTL_PATH];   /* map_Kd's file, beside the .mtl ("" none) */
     char     map_bump[LC_MTL_PATH]; /* map_Bump or bump ("" none) */
+    char     map_norm[LC_MTL_PATH]; /* norm: a tangent-space normal map ("" none) */
     double   bump_mult;        /* its -bm option (1) */
 } lc_mtl;
 

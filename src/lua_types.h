@@ -153,9 +153,9 @@ int  objects_light_add(lc_scene *s, const ud_light *l, lc_error *err);
 ud_light objects_light_of(const lc_object *o);
 /* A material userdata of m, with no texture (lua_objects.c). */
 void objects_push_material(lua_State *L, const lc_material *m);
-/* An image texture of the PNG at path, sRGB-decoded; raises naming `what`
-** (lua_texture.c). */
-void texture_push_png(lua_State *L, const char *path, const char *what);
+/* An image texture of the PNG at path, decoded as enc says; raises naming
+** `what` (lua_texture.c). */
+void texture_push_png(lua_State *L, const char *path, const char *what, lc_encoding enc);
 /* lua_motion.c: pushes a group of the members at stack index members,
 ** placed by t. */
 void motion_push_group(lua_State *L, const lc_transform *t, int members);
