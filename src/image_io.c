@@ -15,6 +15,7 @@ lc_save_options lc_save_options_default(void)
     o.depth = 8;
     o.exr_pixel = LC_EXR_HALF;
     o.exr_compression = LC_EXR_ZIP;
+    o.aovs = 1;
     return o;
 }
 
