@@ -23,8 +23,8 @@ void aov_first_hit(tracer *t, const hit *h, const lc_material *m, lc_vec3 n)
     as->position = h->p;
     as->normal = n;
     as->albedo = rad(m->color);
-    as->object = scene_object_id(t->scene, h);
-    as->material = h->material;
+    as->object = 1 + scene_object_id(t->scene, h);
+    as->material = 1 + h->material;
 }
 
 int aov_room(uint32_t n, aov_count **objects, aov_count **materials)
@@ -42,7 +42,7 @@ void aov_pixel_begin(aov_pixel *p, aov_count *objects, aov_count *materials)
     p->materials = materials;
 }
 
-/* One more sample of `id` in the list (the background counts as -1). */
+/* One more sample of `id` in the list (the background counts as 0). */
 static void count_id(aov_count *list, uint32_t *n, int id)
 {
     for (uint32_t i = 0; i < *n; i++)
@@ -62,8 +62,8 @@ void aov_pixel_add(aov_pixel *p, const aov_sample *as, lc_vec3 eye, lc_vec3 forw
         p->light[k][1] += as->light[k].g;
         p->light[k][2] += as->light[k].b;
     }
-    count_id(p->objects, &p->nobjects, as->hit ? as->object : -1);
-    count_id(p->materials, &p->nmaterials, as->hit ? as->material : -1);
+    count_id(p->objects, &p->nobjects, as->hit ? as->object : 0);
+    count_id(p->materials, &p->nmaterials, as->hit ? as->material : 0);
     if (!as->hit)
         return;
     p->normal[0] += as->normal.x, p->normal[1] += as->normal.y, p->normal[2] += as->normal.z;
@@ -105,12 +105,12 @@ static void set3(lc_image *a, int x, int y, double r, double g, double b)
     px[2] = (float)b;
 }
 
-/* The id seen by most samples, the background (-1) among them; ranks: the
-** objects alone, most samples first, ties to the smaller id. */
+/* The id seen by most samples, the background (0) among them, ties to the
+** smaller id; ranks: the objects alone, most samples first, ties the same. */
 static void put_ids(lc_image *a, int x, int y, aov_count *list, uint32_t nl, uint32_t n)
 {
     float *rk = a->ranks + (size_t)2 * LC_AOV_RANKS * ((size_t)y * a->width + x);
-    int top = -1;
+    int top = 0;
     uint32_t most = 0;
     for (uint32_t i = 0; i < nl; i++)
         if (list[i].n > most || (list[i].n == most && list[i].id < top))
@@ -120,13 +120,13 @@ static void put_ids(lc_image *a, int x, int y, aov_count *list, uint32_t nl, uin
         int best = -1;
         for (uint32_t i = 0; i < nl; i++) {
             const aov_count *c = &list[i];
-            if (c->id < 0 || c->n == 0)
+            if (c->id == 0 || c->n == 0)
                 continue;
             if (best < 0 || c->n > list[best].n ||
                 (c->n == list[best].n && c->id < list[best].id))
                 best = (int)i;
         }
-        rk[2 * r] = best < 0 ? -1.0f : (float)list[best].id;
+        rk[2 * r] = best < 0 ? 0.0f : (float)list[best].id;
         rk[2 * r + 1] = best < 0 ? 0.0f : (float)((double)list[best].n / n);
         if (best >= 0)
             list[best].n = 0;     /* taken: the list is spent with the pixel */
@@ -192,6 +192,10 @@ lc_image *lc_image_aov(const lc_image *img, lc_aov a, lc_error *err)
 
 lc_image *lc_image_matte(const lc_image *img, lc_aov a, int id, lc_error *err)
 {
+    if (id < 1) {
+        error_fail(err, LC_EARG, "id", "an id >= 1 expected, got %d", id);
+        return NULL;
+    }
     if (a != LC_AOV_OBJECT && a != LC_AOV_MATERIAL) {
         error_fail(err, LC_EARG, "aov", "a matte is of the object or material AOV, not %s",
                    (unsigned)a < LC_AOVS ? aov_names[a] : "?");
@@ -207,7 +211,7 @@ lc_image *lc_image_matte(const lc_image *img, lc_aov a, int id, lc_error *err)
         const float *rk = src->ranks + 2 * LC_AOV_RANKS * i;
         float c = 0;
         for (int r = 0; r < LC_AOV_RANKS; r++)
-            if (rk[2 * r] == (float)id && id >= 0)
+            if (rk[2 * r] == (float)id && id > 0)
                 c = rk[2 * r + 1];
         out->px[3 * i] = out->px[3 * i + 1] = out->px[3 * i + 2] = c;
     }

@@ -568,9 +568,10 @@ typedef enum { LC_SAMPLER_SOBOL, LC_SAMPLER_JITTER, LC_SAMPLER_RANDOM } lc_sampl
 ** anti-aliased; depth is along the camera's axis, +infinity where no sample
 ** met anything); normal (the world-space shading normal, turned toward the
 ** camera) and albedo (the material's colour) the mean over all samples, 0
-** for those that met nothing; object and material the scene's object id and
-** material index seen by most samples (-1: the background), with the share
-** of samples each id covers (lc_image_matte). The light-path AOVs split the
+** for those that met nothing; object and material 1 + the object's id
+** (what lc_scene_add_* returned) or 1 + its material's index, seen by most
+** samples (0: the background), with the share of samples each covers
+** (lc_image_matte). The light-path AOVs split the
 ** beauty by the first bounce of the camera's path, and sum to it: direct
 ** (lights, highlights and ambient light at the first hit), reflection and
 ** refraction (all a mirror or glossy reflection, or a refraction, brings
@@ -872,8 +873,9 @@ lc_image *lc_image_load_exr(const char *path, lc_error *err);
 ** same value in r, g and b); normal and position hold x, y, z in r, g, b. */
 lc_image *lc_image_aov(const lc_image *img, lc_aov a, lc_error *err);
 unsigned  lc_image_aovs(const lc_image *img);        /* bits 1 << LC_AOV_* it holds */
-/* The coverage matte of `id` in an object or material AOV: each pixel the
-** share of its camera samples whose first hit is that object (or material),
+/* The coverage matte of `id` (a value of an object or material AOV, >= 1):
+** each pixel the share of its camera samples whose first hit is that
+** object (or material),
 ** exact while the pixel sees at most LC_AOV_RANKS ids (else those it sees
 ** least read 0). A new image, the caller's to free. */
 lc_image *lc_image_matte(const lc_image *img, lc_aov a, int id, lc_error *err);

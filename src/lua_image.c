@@ -360,8 +360,8 @@ static int w_image_matte(lua_State *L)
     check_image(L, 1);
     lc_aov a = check_aov(L, 2);
     lua_Integer id = luaL_checkinteger(L, 3);
-    if (id < 0 || id > INT_MAX)
-        luaL_argerror(L, 3, lua_pushfstring(L, "an id >= 0 expected, got %I", id));
+    if (id < 1 || id > INT_MAX)
+        luaL_argerror(L, 3, lua_pushfstring(L, "an id >= 1 expected, got %I", id));
     return push_made(L, lc_image_matte, a, (int)id);
 }
 

@@ -71,6 +71,7 @@ static const char *const sampler_opts[] = {"sobol", "jitter", "random", NULL};
 
 int aov_of_name(lua_State *L, int idx, const char **why)
 {
+    idx = lua_absindex(L, idx);         /* the buffer below pushes */
     const char *name = lua_type(L, idx) == LUA_TSTRING ? lua_tostring(L, idx) : NULL;
     for (int k = 0; name && k < LC_AOVS; k++)
         if (strcmp(name, lc_aov_name((lc_aov)k)) == 0)

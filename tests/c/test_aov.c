@@ -243,7 +243,7 @@ static void check_file(const lc_image *img, int half)
                 assert_true(cov <= last);
                 last = cov;
                 total += cov;
-                if (id < 0) {
+                if (id == 0) {
                     assert_true(cov == 0);
                     continue;
                 }
