@@ -81,8 +81,13 @@ T.test("light AOVs sum to the beauty: glass, mirrors, glossy, emitters, Whitted"
     if n == "indirect" then T.eq(totals[i], 0, "Whitted's indirect")
     else assert(totals[i] > 0, n .. " holds nothing") end
   end
+  assert(lancer.ledger(st):find("\n  aovs      depth, normal, albedo,", 1, true),
+         "the ledger lists the AOVs")
   opts.aovs = nil
-  same_bits(img, mixed():render(opts), "beauty with AOVs")
+  local plain, pst = mixed():render(opts)
+  same_bits(img, plain, "beauty with AOVs")
+  T.eq(#pst.aovs, 0, "a plain render's stats.aovs")
+  assert(not lancer.ledger(pst):find("aovs", 1, true), "a plain ledger shows no AOVs")
 end)
 
 T.test("light AOVs sum to the beauty with light that bounces (indirect = 3)", function()
