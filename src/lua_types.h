@@ -121,8 +121,13 @@ lc_scene *scene_at(lua_State *L, int idx);
                        "cutoff", "shadows", "reflections", "specular", "generic", \
                        "frame", "sampler", "light_samples", "cone_samples", "max_depth", \
                        "noise", "min_samples", "glossy", "alpha", "region", "indirect", \
-                       "roulette", "nee", "ao"
+                       "roulette", "nee", "ao", "aovs"
 void render_read_options(lua_State *L, int arg, lc_render_options *o);
+/* The AOV named by the string at idx (lc_aov), or -1 (with *why set to a
+** sentence listing the names) for any other value. */
+int  aov_of_name(lua_State *L, int idx, const char **why);
+/* Pushes the names of the AOV bits as a list. */
+void aov_push_names(lua_State *L, unsigned bits);
 
 /* lua_hook.c: the host hook (lancer.set_host_hook; the comment there says
 ** what it sees). hook_call calls it for `method`, with `plain` (the method

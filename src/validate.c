@@ -292,6 +292,12 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
     if (o->ao_samples > 0 && !(o->ao_distance > 0 && o->ao_distance <= LC_MAX_COORD))
         return error_fail(err, LC_EARG, "ao", "distance must be in (0, %g], got %g",
                           LC_MAX_COORD, o->ao_distance);
+    if (o->aovs & ~LC_AOV_ALL)
+        return error_fail(err, LC_EARG, "aovs", "unknown AOV bits 0x%x",
+                          o->aovs & ~LC_AOV_ALL);
+    if (o->aovs && o->noise > 0)
+        return error_fail(err, LC_EARG, "aovs", "AOVs are not made with adaptive sampling "
+                          "(noise > 0): render them with a fixed number of samples");
     const int *r = o->region;
     if ((r[0] | r[1] | r[2] | r[3]) != 0 &&
         !(r[0] >= 0 && r[0] < r[2] && r[2] <= o->width && r[1] >= 0 && r[1] < r[3] &&
