@@ -326,6 +326,24 @@ local function run_recipes(c)
   end
   local function frames(list) return select(2, table.concat(list, "\n"):gsub("out/", "")) end
   T.eq(frames(files_below(jobs)), frames(want), "frames the jobs wrote in out/")
+  -- The array split them: each frame rendered by exactly one task (its
+  -- log line "... -> out/NAME"), over more than one task.
+  local by, tasks = {}, 0
+  local logs = sh(("cd %s && ls logs"):format(q(jobs)))
+  for log in logs:gmatch("%S+") do
+    local any = false
+    for f in (T.slurp(jobs .. "/logs/" .. log) or ""):gmatch("%-> (out/%S+)") do
+      by[f] = (by[f] or 0) + 1
+      any = true
+    end
+    if any then tasks = tasks + 1 end
+  end
+  for _, f in ipairs(want) do
+    if f:match("^out/") then
+      T.eq(by[f] or 0, 1, f .. ": tasks whose log names it")
+    end
+  end
+  assert(tasks > 1, ("the frames came from %d task's log"):format(tasks))
 end
 
 T.test("slurm: the manual's frame array, tile array and merge on one node " ..
