@@ -32,7 +32,7 @@ local function sh(cmd) return T.run("{ " .. cmd .. "\n}") end
 
 local function line_of(cmd)
   local out = sh(cmd)
-  return (out or ""):gsub("%s+$", "")
+  return ((out or ""):gsub("%s+$", ""))
 end
 
 local function have(prog)
@@ -343,7 +343,7 @@ local function run_recipes(c)
       T.eq(by[f] or 0, 1, f .. ": tasks whose log names it")
     end
   end
-  assert(tasks > 1, ("the frames came from %d task's log"):format(tasks))
+  assert(tasks > 1, ("the frames came from %d task(s)"):format(tasks))
 end
 
 T.test("slurm: the manual's frame array, tile array and merge on one node " ..
