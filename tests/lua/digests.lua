@@ -42,6 +42,8 @@ return {
   ["scenes/cornell.lua @48x36x1"] = "208482bcea92d2cc",
   ["scenes/csg.lua @32x24x4"] = "96107d8c754566e1",
   ["scenes/csg.lua @48x36x1"] = "1178f1f74c814519",
+  ["scenes/hdrsky.lua @32x24x4"] = "afbcc9d41121ecde",
+  ["scenes/hdrsky.lua @48x36x1"] = "aea1312d91e27d08",
   ["scenes/seed/fig01.lua @32x24x4"] = "42398bb10ca73058",
   ["scenes/seed/fig01.lua @48x36x1"] = "0c4f00bfacbc3375",
   ["scenes/seed/fig02.lua @32x24x4"] = "e87b4c39121cc556",
