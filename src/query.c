@@ -5,6 +5,8 @@
 #include "scene.h"
 #include "validate.h"
 
+static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive);
+
 #define POLL 4096     /* rays between looks at lc_interrupt() */
 
 /* The caller's ray as the tracer takes it: a unit direction from the start
@@ -53,10 +55,23 @@ static lc_status begin(lc_scene *s, const lc_ray *rays, size_t n, sig_atomic_t s
     return st;
 }
 
+int scene_object_id(const lc_scene *s, const hit *h)
+{
+    int kind;
+    long primitive;
+    return object_of(s, h, &kind, &primitive);
+}
+
 static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive)
 {
     unsigned pk = PRIM_KIND(h->shape);
     *primitive = 0;
+    if (pk == PRIM_CSG_FACE || pk == PRIM_CSG_CUT) {    /* a CSG object: its leaf's kind */
+        const csg_tree *t = s->csgs[PRIM_INDEX(h->shape)];
+        double uv[2];
+        *kind = csg_hit_uv(t, h, uv);
+        return t->id;
+    }
     if (pk != PRIM_TRIANGLE) {
         lc_shape_kind k = shape_kind_of_prim(pk);
         *kind = (int)k;

@@ -64,11 +64,12 @@ end
 
 -- The prompt and --watch draw each pass (M.on_pass, set by lancer.repl or
 -- lancer.watch): the renders they see are progressive, unless the script
--- says progressive = false, their on_pass called before the script's own.
--- Bad values are left for render to report.
+-- says progressive = false or asks for AOVs (which a progressive render
+-- does not make), their on_pass called before the script's own. Bad values
+-- are left for render to report.
 local function drawn(opts)
   local draw, own = M.on_pass, opts.on_pass
-  if not draw or opts.progressive == false or (opts.progressive ~= nil and
+  if not draw or opts.aovs ~= nil or opts.progressive == false or (opts.progressive ~= nil and
      opts.progressive ~= true) or (own ~= nil and type(own) ~= "function") then
     return opts
   end

@@ -207,6 +207,9 @@ T.test("progressive: bad options name the field", function()
   T.check_error(function() s:render{progress = "dots"} end,
                 "test_progressive.lua:", "'render'", "field 'progress'",
                 "true, false or 'lines' expected, got 'dots'")
+  T.check_error(function() s:render{progressive = true, aovs = {"depth"}} end,
+                "test_progressive.lua:", "'render'", "field 'aovs'",
+                "not made by a progressive render")
   T.check_error(function() s:render{progressiv = true} end,
                 "test_progressive.lua:", "unknown field 'progressiv'",
                 "did you mean 'progressive'")
