@@ -47,10 +47,12 @@ end
 -- --progress MODE as the render option progress.
 local PROGRESS = {bar = true, none = false, lines = "lines"}
 
--- The options as the script gave them, with the command line's.
-local function sized(opts)
+-- The options as the script gave them, with the command line's (render's
+-- have a progress option, explain's none).
+local function sized(opts, render)
   local o = M.options
-  if not (o.width or o.height or o.samples or o.seed or o.threads or o.progress) then
+  local progress = render and o.progress
+  if not (o.width or o.height or o.samples or o.seed or o.threads or progress) then
     return opts
   end
   local t = {}
@@ -58,7 +60,7 @@ local function sized(opts)
   t.width, t.height, t.samples = o.width or t.width, o.height or t.height,
                                  o.samples or t.samples
   t.seed, t.threads = o.seed or t.seed, o.threads or t.threads
-  if o.progress then t.progress = PROGRESS[o.progress] end
+  if progress then t.progress = PROGRESS[progress] end
   return t
 end
 
@@ -167,7 +169,7 @@ function M.hook(method, plain, self, what, ...)
     M.diverted = false
     if not ok then error(img, 0) end
   else
-    img, st = plain(self, drawn(part_of(sized(what))))
+    img, st = plain(self, drawn(part_of(sized(what, true))))
   end
   if o.stats then require("lancer.ledger").report(st) end
   if M.on_render then M.on_render(img, st) end

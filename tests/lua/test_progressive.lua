@@ -236,6 +236,7 @@ s:add(lancer.sphere{center = {0, 0, 0}, radius = 1},
       lancer.point_light{position = {2, 4, -3}, intensity = 25})
 s:render{width = 256, height = 256, samples = 16, noise = 0.01, min_samples = 2}
 s:render{width = 64, height = 64, progress = true}
+assert(s:explain{x = 5, y = 5, width = 10, height = 10})   -- explain has no progress
 ]])
   for _, form in ipairs{"--progress=lines", "--progress lines"} do
     local out, err, code = T.run(("%s %s %s"):format(T.lancer, form, T.quote(script)))
