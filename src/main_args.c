@@ -132,8 +132,9 @@ static void print_usage(void)
 "The script sees its arguments in 'arg' and '...', as with lua5.4.\n"
 "math.random starts from a fixed seed, so a script renders the same each run.\n"
 "The prompt prints the value of an expression, draws each render in the\n"
-"terminal and saves it to out/repl_NNN.png; its history is kept in\n"
-"~/" HISTORY_FILE ". Ctrl-C interrupts running code or a render, Ctrl-D quits.\n"
+"terminal pass by pass and saves it to out/repl_NNN.png; its history is kept\n"
+"in ~/" HISTORY_FILE ". Ctrl-C interrupts running code or a render (keeping\n"
+"the render's last whole pass, saved too), Ctrl-D quits.\n"
 "\n"
 "Exit status: 0 success, 1 script error, 2 usage error, 3 unstable (--check),\n"
 "4 time cap reached (--max-seconds, --sandbox).\n", stdout);
