@@ -1,8 +1,9 @@
 -- showcase.lua: one scene that uses every part of the lancer API.
 --
--- A mirror ball in the middle of coloured Phong spheres, a rotated box, two
--- quads, an infinite floor, two coloured point lights, a glowing sphere
--- that lights its surroundings, a little ambient light, three bounces.
+-- A mirror ball in the middle of coloured Phong spheres, a glass ball, a
+-- rotated box, two quads, an infinite checkered floor, two coloured point
+-- lights, a glowing sphere that lights its surroundings, a little ambient
+-- light, up to six bounces (in and out of the glass, off the mirrors).
 --   build/bin/lancer scenes/showcase.lua [out.png]
 local lancer = require "lancer"
 
@@ -10,13 +11,19 @@ local scene = lancer.scene{
   camera = lancer.camera{from = {0.6, 2.8, 9}, at = {0, 0.9, 0}, fov = 55},
   background = {0.16, 0.2, 0.3},      -- a dusky sky the mirrors can show
   ambient = 0.05,
-  max_depth = 3,
+  max_depth = 6,
 }
 
--- Floor: an infinite plane, slightly glossy.
+-- Floor: an infinite plane of large soft tiles, slightly glossy.
+local tiles = lancer.checker{a = {0.78, 0.75, 0.7}, b = {0.55, 0.52, 0.5}, scale = 1.5}
 scene:add(lancer.plane{point = {0, 0, 0}, normal = {0, 1, 0},
-                       material = lancer.material{color = {0.75, 0.72, 0.68}, kd = 0.85,
-                                                  kr = 0.12}})
+                       material = lancer.material{color = tiles, kd = 0.85, kr = 0.12}})
+
+-- A glass ball on the right: it refracts the floor and the ring behind it.
+scene:add(lancer.sphere{center = {1.45, 0.55, 2.9}, radius = 0.55,
+                        material = lancer.material{kd = 0, ka = 0, ks = 0.6, alpha = 100,
+                                                   kt = 0.95, ior = 1.5,
+                                                   absorption = {0.15, 0.08, 0.02}}})
 
 -- The mirror ball: almost all reflection, a sharp highlight.
 scene:add(lancer.sphere{center = {0, 1.3, 0}, radius = 1.3,

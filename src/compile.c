@@ -10,9 +10,12 @@
 #include "camera.h"
 #include "interrupt.h"
 #include "mem.h"
+#include "sky.h"
+#include "texture.h"
 
 void compile_free(compiled *c)
 {
+    sky_dist_free(&c->sky);
     mem_free(c->plan);
     mem_free(c->tris);
     bvh_free(&c->bvh);
@@ -185,11 +188,20 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
         if (m->kt > 0 && m->shadow == LC_SHADOW_FILTERED) count(&filt, i);
     }
     int depth = compile_depth(s, o);
-    int lights = s->nlights > 0 || s->nemitters > 0;
+    /* For paths, a background that is not black is a light too. */
+    int sky_lights = o->indirect > 0 && (s->settings.background_texture > 0 ||
+                                         !c_is_black(s->settings.background));
+    int lights = s->nlights > 0 || s->nemitters > 0 || s->nspots > 0 || s->nsuns > 0 ||
+                 sky_lights;
     int ambient = !c_is_black(s->settings.ambient);
     int area = o->light_samples > 0;
     unsigned needs = 0;
     if (lit.count && s->nlights > 0) needs |= LC_NEED_SHADOW;
+    if (lit.count && s->nspots > 0) needs |= LC_NEED_SPOT;
+    if (lit.count && s->nsuns > 0) needs |= LC_NEED_SUN;
+    if (s->settings.background_texture > 0) needs |= LC_NEED_SKY;
+    c->sky_uv = (needs & LC_NEED_SKY) &&
+                textures_use_uv(s->textures, s->settings.background_texture - 1);
     if (lit.count && s->nemitters > 0) needs |= area ? LC_NEED_AREA : LC_NEED_EMITTER;
     if (spec.count && lights && o->specular) needs |= LC_NEED_SPECULAR;
     if (refl.count && depth > 0 && o->reflections) needs |= LC_NEED_REFLECT;
@@ -201,8 +213,13 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     int shadow_rays = lit.count && lights && o->shadows;
     if (filt.count && shadow_rays) needs |= LC_NEED_FILTER;
     if (tex.count) needs |= LC_NEED_TEXTURE;
+    /* Light that bounces replaces the ambient stand-in for it. */
+    if (o->indirect > 0) needs = (needs | LC_NEED_INDIRECT) & ~(unsigned)LC_NEED_AMBIENT;
+    if (o->ao_samples > 0 && (needs & LC_NEED_AMBIENT)) needs |= LC_NEED_AO;
     if (o->generic) {        /* everything that can run, runs */
         if (s->nlights) needs |= LC_NEED_SHADOW;
+        if (s->nspots) needs |= LC_NEED_SPOT;
+        if (s->nsuns) needs |= LC_NEED_SUN;
         if (s->nemitters) needs |= area ? LC_NEED_AREA : LC_NEED_EMITTER;
         if (o->specular) needs |= LC_NEED_SPECULAR;
         if (o->reflections && depth > 0) needs |= LC_NEED_REFLECT;
@@ -212,6 +229,7 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
     }
     c->needs = needs;
     c->depth = depth;
+    c->sky_lights = sky_lights;
 
 #define WHY(k, ...) snprintf(c->why[k], sizeof c->why[k], __VA_ARGS__)
     if (needs & LC_NEED_SHADOW)
@@ -289,6 +307,36 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
             tex.count == 1 ? "" : "s", tex.first);
     else
         WHY(10, "no material in use has a texture");
+    if (needs & LC_NEED_SPOT)
+        WHY(11, "%zu spot light%s; %zu of %zu materials in use have kd or ks > 0 "
+            "(first: #%zu)", s->nspots, s->nspots == 1 ? "" : "s", lit.count,
+            inuse.count, lit.first);
+    else
+        WHY(11, s->nspots ? "no material in use has kd or ks > 0" : "no spot light");
+    if (needs & LC_NEED_SUN)
+        WHY(12, "%zu directional light%s; %zu of %zu materials in use have kd or ks > 0 "
+            "(first: #%zu)", s->nsuns, s->nsuns == 1 ? "" : "s", lit.count,
+            inuse.count, lit.first);
+    else
+        WHY(12, s->nsuns ? "no material in use has kd or ks > 0" : "no directional light");
+    if (needs & LC_NEED_SKY)
+        WHY(13, "the background is a texture over directions");
+    else
+        WHY(13, "the background is one colour");
+    if (needs & LC_NEED_INDIRECT)
+        WHY(14, "indirect = %d: paths of up to %d bounce%s%s%s, lights sampled at each%s",
+            o->indirect, o->indirect, o->indirect == 1 ? "" : "s",
+            sky_lights ? ", the sky a light" : "",
+            o->roulette ? ", Russian roulette after 3" : "",
+            o->nee ? " (MIS)" : " (no: BSDF sampling alone)");
+    else
+        WHY(14, "indirect = 0: direct light and mirrors (the seed's model)");
+    if (needs & LC_NEED_AO)
+        WHY(15, "ambient light darkened by %d probe%s of %g", o->ao_samples,
+            o->ao_samples == 1 ? "" : "s", o->ao_distance);
+    else
+        WHY(15, o->ao_samples == 0 ? "ao off" : o->indirect > 0 ?
+            "indirect light replaces ambient light" : "no ambient light to darken");
 #undef WHY
 
     for (size_t i = 0; i < s->nmaterials; i++) {
@@ -302,6 +350,7 @@ static lc_status decide_needs(lc_scene *s, const lc_render_options *o, lc_error 
         if (reflects && !cone && (needs & LC_NEED_REFLECT)) p |= PLAN_REFLECT;
         if (reflects && cone && (needs & LC_NEED_GLOSSY)) p |= PLAN_GLOSSY;
         if (m->ka > 0 && (needs & LC_NEED_AMBIENT)) p |= PLAN_AMBIENT;
+        if ((p & PLAN_AMBIENT) && (needs & LC_NEED_AO)) p |= PLAN_AO;
         if (!c_is_black(m->emission)) p |= PLAN_EMITS;
         if (o->generic)
             p = PLAN_LIGHTS | PLAN_EMITS | PLAN_AMBIENT |
@@ -353,6 +402,10 @@ lc_status compile_scene(lc_scene *s, const lc_render_options *o, sig_atomic_t se
     ** other threads may be casting into it (query.c). */
     if (decide_needs(s, o, err))
         return LC_ENOMEM;
+    if ((c->needs & LC_NEED_INDIRECT) && c->sky_lights && sky_dist_build(s, &c->sky, err))
+        return LC_ENOMEM;
+    if (!(c->needs & LC_NEED_INDIRECT))
+        sky_dist_free(&c->sky);
     c->seconds = clock_seconds() - t0;
     error_ok(err);
     return LC_OK;

@@ -69,7 +69,8 @@ int explain_shadow(ray_log *g, lc_ray_kind kind, const ray *r, int light,
 {
     int rec = explain_ray(g, g->parent, kind, r);
     if (rec >= 0) {
-        g->r[rec].light = light;
+        g->r[rec].light_kind = light < 0 ? LC_LIGHT_EMITTER : light >> 28;
+        g->r[rec].light = light < 0 ? light : light & ((1 << 28) - 1);
         g->r[rec].distance = distance;
     }
     return rec;

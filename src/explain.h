@@ -26,7 +26,13 @@ void explain_hit(ray_log *g, const lc_scene *s, int rec, const hit *h, lc_vec3 n
 /* What ray rec's own hit or miss adds to the pixel (its light, emission,
 ** background), branches and sub-paths apart. */
 void explain_add(ray_log *g, int rec, radiance add);
-/* A shadow ray toward `light` (i: point light i; -1 - e: emitter e) from
+/* The light numbers explain_shadow takes for spot and directional light i. */
+#define EXPLAIN_SPOT(i) ((int)(i) | LC_LIGHT_SPOT << 28)
+#define EXPLAIN_SUN(i)  ((int)(i) | LC_LIGHT_DIRECTIONAL << 28)
+#define EXPLAIN_SKY     (LC_LIGHT_SKY << 28)
+
+/* A shadow ray toward `light` (i: point light i; -1 - e: emitter e; the
+** above for the other kinds) from
 ** the ray being shaded, as far as distance; returns its record or -1. */
 int  explain_shadow(ray_log *g, lc_ray_kind kind, const ray *r, int light,
                     double distance);

@@ -1,5 +1,6 @@
 /* image_io.c: saving images in the format their file name asks for, with the
 ** options of each format. */
+#include <math.h>
 #include <string.h>
 #include <strings.h>
 #include "error.h"
@@ -44,6 +45,9 @@ typedef struct {
     const lc_image *img;
     const raster_format *f;
     int straight;             /* PNG with alpha: colours divided by it */
+    int toned;                /* exposure or a tone curve: scale, then tone */
+    double scale;             /* 2^exposure */
+    lc_tone tone;
 } source;
 
 static void image_row(const void *ud, int y, unsigned char *out)
@@ -59,6 +63,9 @@ static void image_row(const void *ud, int y, unsigned char *out)
         if (s->straight)
             for (int k = 0; k < 3; k++)
                 v[k] = v[3] > 0 ? v[k] / v[3] : 0;
+        if (s->toned)
+            for (int k = 0; k < 3; k++)
+                v[k] = (float)lc_tone_curve(v[k] * s->scale, s->tone);
         for (int k = 0; k < ch; k++) {
             size_t i = (size_t)x * ch + k;
             lc_encoding enc = k == 3 ? LC_ENCODE_LINEAR : f->enc;  /* alpha is linear */
@@ -93,6 +100,11 @@ static lc_status check_options(const lc_image *img, const lc_save_options *o,
     if (o->exr_tile < 0 || o->exr_tile > LC_MAX_EXR_TILE)
         return error_fail(err, LC_EARG, "tile", "must be 0 (scanlines) or 1..%d, got %d",
                           LC_MAX_EXR_TILE, o->exr_tile);
+    if (!(o->exposure >= -LC_MAX_EXPOSURE && o->exposure <= LC_MAX_EXPOSURE))
+        return error_fail(err, LC_EARG, "exposure", "must be in [-%d, %d] stops, got %g",
+                          LC_MAX_EXPOSURE, LC_MAX_EXPOSURE, o->exposure);
+    if (o->tone != LC_TONE_CLAMP && o->tone != LC_TONE_FILMIC)
+        return error_fail(err, LC_EARG, "tone", "unknown tone curve %d", (int)o->tone);
     if (o->alpha && !img->alpha)
         return error_fail(err, LC_EARG, "alpha", "cannot write '%s' with alpha: the image "
                           "has none (render it with alpha = true)", path);
@@ -124,7 +136,8 @@ lc_status lc_image_save_with(const lc_image *img, const char *path,
         f.compression = o->exr_compression;
         f.tile = o->exr_tile;
     }
-    source s = {img, &f, kind == RASTER_PNG && o->alpha};
+    source s = {img, &f, kind == RASTER_PNG && o->alpha,
+                o->exposure != 0 || o->tone != LC_TONE_CLAMP, exp2(o->exposure), o->tone};
     return kind == RASTER_PNG ? png_write_raster(&f, image_row, &s, path, err)
                               : exr_write_raster(&f, image_row, &s, path, err);
 }
@@ -149,6 +162,6 @@ lc_status lc_image_save_png(const lc_image *img, const char *path, lc_encoding e
     f.bytes = 1;
     f.win = img->win;
     f.enc = enc;
-    source s = {img, &f, 0};
+    source s = {img, &f, 0, 0, 1, LC_TONE_CLAMP};
     return png_write_raster(&f, image_row, &s, path, err);
 }

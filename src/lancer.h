@@ -244,6 +244,44 @@ lc_point_light lc_point_light_default(void);  /* at the origin, white, intensity
                                               ** inverse-square falloff */
 lc_status lc_point_light_check(const lc_point_light *l, lc_error *err);
 
+/* A point light whose light is confined to a cone (POV-Ray's spotlight, pbrt's
+** spot): colour and intensity as a point light's, times the cone's share
+** toward the lit point (lc_spot_light_share). */
+typedef struct {
+    lc_vec3    position;
+    lc_vec3    direction;  /* the cone's axis, the way it shines; any length > 0 */
+    double     angle;      /* the cone's half-angle in degrees, in (0, 180) */
+    double     soft;       /* the edge's width in degrees, in [0, angle]: full light
+                           ** within angle - soft of the axis, none past angle, a
+                           ** smoothstep of the cosine between */
+    lc_color   color;
+    double     intensity;  /* as a point light's, on the axis */
+    lc_falloff falloff;
+} lc_spot_light;
+
+/* At the origin pointing down -y, angle 30, soft 5, white, intensity 1,
+** inverse-square falloff. */
+lc_spot_light lc_spot_light_default(void);
+lc_status lc_spot_light_check(const lc_spot_light *l, lc_error *err);
+/* The share of the spot's intensity that goes toward point p: 1 within
+** angle - soft of the axis, 0 past angle (and at the position itself), and
+** between, with t = (cos theta - cos angle) / (cos(angle - soft) - cos angle),
+** t^2 (3 - 2 t). */
+double lc_spot_light_share(const lc_spot_light *l, lc_vec3 p);
+
+/* A light infinitely far away (a sun): parallel rays, parallel shadows, no
+** falloff. A white kd = 1 surface facing it reads irradiance / pi, as under
+** an emissive shape of that irradiance. */
+typedef struct {
+    lc_vec3  direction;    /* the way its light travels (from the sun); length > 0 */
+    lc_color color;
+    double   irradiance;   /* on a surface facing it, >= 0 */
+} lc_directional_light;
+
+lc_directional_light lc_directional_light_default(void);  /* straight down, white,
+                                                          ** irradiance pi */
+lc_status lc_directional_light_check(const lc_directional_light *l, lc_error *err);
+
 typedef struct {
     lc_vec3 from, at, up;
     double  fov;          /* horizontal field of view in degrees, in (0, 180) */
@@ -262,7 +300,7 @@ lc_status lc_camera_check(const lc_camera *c, lc_error *err);
 ** (kd, ks, ...), its luminance (0.2126 r + 0.7152 g + 0.0722 b) is used. */
 typedef enum {
     LC_TEX_CHECKER, LC_TEX_STRIPES, LC_TEX_GRADIENT, LC_TEX_NOISE, LC_TEX_MARBLE,
-    LC_TEX_WOOD, LC_TEX_IMAGE, LC_TEX_MIX, LC_TEX_KINDS
+    LC_TEX_WOOD, LC_TEX_IMAGE, LC_TEX_MIX, LC_TEX_SKY, LC_TEX_KINDS
 } lc_texture_kind;
 
 /* Where a pattern is evaluated: at the world point, at the point in the
@@ -280,7 +318,9 @@ typedef struct lc_textures lc_textures;   /* a set of textures that refer to eac
 typedef struct {
     lc_texture_kind kind;
     lc_color a, b;         /* checker's two squares, stripes' two bands, the ends of a
-                           ** gradient, the ramp of noise, marble and wood; mix: the two */
+                           ** gradient, the ramp of noise, marble and wood; mix: the two;
+                           ** sky: the zenith and the horizon */
+    lc_color c;            /* sky: the ground (straight down) */
     int      ta, tb;       /* or textures in their place: 1 + index in the set (0: the
                            ** colour) */
     int      tamount;      /* mix: 1 + index of the texture whose luminance weights b
@@ -314,6 +354,16 @@ size_t       lc_textures_count(const lc_textures *set);
 ** (p where it has none), uv its texture coordinates. */
 lc_color     lc_textures_eval(const lc_textures *set, int i, lc_vec3 p, lc_vec3 q,
                               const double uv[2]);
+/* A sky (LC_TEX_SKY) over the direction d from the origin to the point, y
+** = d_y / |d|: b + (a - b) y above the horizon, b + (c - b)(-y) below:
+** zenith, horizon and ground colours at y = 1, 0, -1, linear between. */
+
+/* The texture coordinates of the unit direction d, as on a sphere around
+** the origin: u = 0.5 + atan2(d_x, d_z) / 2 pi, v = 0.5 + asin(d_y) / pi, so an
+** image texture over them is an equirectangular map (its centre faces +z,
+** its top row is straight up). */
+void         lc_sky_uv(lc_vec3 d, double uv[2]);
+
 /* Perlin's improved gradient noise (2002): 0 at integer points, in [-1, 1]. */
 double       lc_noise(lc_vec3 p);
 
@@ -323,6 +373,10 @@ typedef struct lc_scene lc_scene;
 
 typedef struct {
     lc_color background;  /* what a ray that hits nothing sees */
+    int      background_texture;  /* or, when > 0, 1 + the index of the scene's
+                          ** texture (lc_scene_add_texture) seen in each direction:
+                          ** evaluated at the unit direction d as the point, at the
+                          ** (u, v) a sphere has there (see lc_sky_uv) */
     lc_color ambient;     /* Ia: ka * C * Ia is added at every hit */
     int      max_depth;   /* bounces, >= 0: each reflection or refraction adds 1;
                           ** the seed used 3 */
@@ -357,13 +411,16 @@ int       lc_scene_add_mesh_materials(lc_scene *s, lc_mesh *m, const lc_transfor
 int       lc_scene_add_mesh_moved(lc_scene *s, lc_mesh *m, const lc_transform *t,
                                   int material, lc_error *err);
 int       lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err);
+int       lc_scene_add_spot_light(lc_scene *s, const lc_spot_light *l, lc_error *err);
+int       lc_scene_add_directional_light(lc_scene *s, const lc_directional_light *l,
+                                         lc_error *err);
 /* A copy scaled by `scale` about the origin and moved by `offset`, point-light
 ** intensities times scale^2, the camera's aperture and focus times scale,
 ** materials' absorption over scale: an exact renderer draws the same picture. */
 lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 offset,
                                lc_error *err);
 size_t    lc_scene_shape_count(const lc_scene *s);     /* shapes, meshes and CSG */
-size_t    lc_scene_light_count(const lc_scene *s);
+size_t    lc_scene_light_count(const lc_scene *s);  /* point, spot, directional */
 
 /* ---- Constructive solid geometry -------------------------------------------- */
 
@@ -417,8 +474,10 @@ int       lc_scene_add_csg(lc_scene *s, const lc_csg_node *nodes, size_t n,
 
 /* Every lc_scene_add_* (shape, mesh or light) returns the next id: 0, 1, 2...
 ** An id names its object until it is removed, and is never given again. */
-typedef enum { LC_OBJECT_SHAPE, LC_OBJECT_MESH, LC_OBJECT_LIGHT, LC_OBJECT_CSG }
-    lc_object_kind;
+typedef enum {
+    LC_OBJECT_SHAPE, LC_OBJECT_MESH, LC_OBJECT_LIGHT, LC_OBJECT_CSG, LC_OBJECT_SPOT_LIGHT,
+    LC_OBJECT_DIRECTIONAL_LIGHT
+} lc_object_kind;
 
 typedef struct {
     int            id;
@@ -428,7 +487,9 @@ typedef struct {
     lc_mesh       *mesh;       /* meshes: borrowed; the scene holds it */
     int            moved;      /* meshes: added with a transform (an instance) */
     lc_transform   transform;  /* meshes: that transform, else the identity */
-    lc_point_light light;      /* lights */
+    lc_point_light light;      /* point lights */
+    lc_spot_light  spot;       /* spot lights */
+    lc_directional_light sun;  /* directional lights */
     const lc_csg_node *csg;    /* CSG objects: the description as stored (shapes as
                                ** lc_shape_stored gives them); borrowed until the
                                ** scene changes */
@@ -461,7 +522,12 @@ enum {
     LC_NEED_FILTER   = 1 << 9,   /* shadow rays cross materials with kt > 0 and
                                  ** shadow = filtered: no any-hit query for them */
     LC_NEED_TEXTURE  = 1 << 10,  /* some material in use has a texture */
-    LC_NEEDS         = 11        /* how many: bit k is 1 << k */
+    LC_NEED_SPOT     = 1 << 11,  /* spot lights light some material in use */
+    LC_NEED_SUN      = 1 << 12,  /* directional lights light some material in use */
+    LC_NEED_SKY      = 1 << 13,  /* the background is a texture over directions */
+    LC_NEED_INDIRECT = 1 << 14,  /* indirect > 0: paths traced with light bouncing */
+    LC_NEED_AO       = 1 << 15,  /* ambient light darkened by ambient occlusion */
+    LC_NEEDS         = 16        /* how many: bit k is 1 << k */
 };
 
 typedef enum {
@@ -472,6 +538,8 @@ typedef enum {
     LC_RAY_LIGHT,        /* shadow rays toward sampled points of area lights */
     LC_RAY_CUT,          /* bounces not traced: their weight fell below the cutoff */
     LC_RAY_REFRACTION,   /* transmitted through a surface with kt > 0 */
+    LC_RAY_INDIRECT,     /* a path's diffuse and highlight bounces (indirect > 0) */
+    LC_RAY_AO,           /* ambient occlusion probes */
     LC_RAY_KINDS
 } lc_ray_kind;
 
@@ -525,6 +593,19 @@ typedef struct {
                              ** pixel's camera samples that hit something; camera
                              ** rays that miss add nothing (the background is
                              ** transparent; reflections still see it) */
+    int      indirect;       /* > 0: global illumination, paths of up to this many
+                             ** diffuse or highlight bounces (path.c); 0: the seed's
+                             ** direct light and mirrors, as ever */
+    int      roulette;       /* indirect: 1 ends paths by Russian roulette after
+                             ** LC_ROULETTE_DEPTH bounces (unbiased); 0 never */
+    int      nee;            /* indirect: 1 samples lights at each bounce, weighted
+                             ** against the BSDF's samples by the power heuristic;
+                             ** 0 finds emitters and the sky by BSDF sampling alone
+                             ** (point, spot and directional lights then light
+                             ** nothing): a check of the estimator */
+    int      ao_samples;     /* > 0: ambient light times the share of this many
+                             ** cosine-weighted probes that travel ao_distance free */
+    double   ao_distance;    /* how far a probe must get, > 0 */
     int      region[4];      /* x0, y0, x1, y1: only the pixels [x0, x1) x [y0, y1) of
                              ** the width x height frame, each exactly as in the whole
                              ** frame; the image is the region's size and knows where
@@ -537,6 +618,9 @@ typedef struct {
 #define LC_MAX_PIXELS ((size_t)1 << 28)  /* 268M pixels, 3 GiB of floats */
 
 #define LC_MAX_LIGHT_SAMPLES 4096
+#define LC_MAX_INDIRECT 1024          /* bounces of a path */
+#define LC_ROULETTE_DEPTH 3           /* bounces before roulette may end a path */
+#define LC_MAX_AO_SAMPLES 4096
 
 /* 640x480, 1 sample, Sobol', 16 light samples, cutoff 1/255, every effect on */
 lc_render_options lc_render_options_default(void);
@@ -570,6 +654,13 @@ typedef struct {
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
                           lc_error *err);
 
+/* The kind of light a shadow ray goes to: `light` is its index among the
+** lights of that kind, 0-based (emitters: -1 - n for emissive shape n). */
+typedef enum {
+    LC_LIGHT_POINT, LC_LIGHT_SPOT, LC_LIGHT_DIRECTIONAL, LC_LIGHT_EMITTER,
+    LC_LIGHT_SKY          /* the background, a light for paths (indirect > 0) */
+} lc_light_kind;
+
 /* One ray of a pixel's ray tree (lc_scene_explain). */
 typedef struct {
     int          parent;        /* the ray this one leaves from; -1 for the camera ray */
@@ -588,6 +679,7 @@ typedef struct {
                                 ** CSG objects (shape_kind is the leaf's kind, shape
                                 ** -1); else -1 */
     int          csg_node;      /* that leaf's index in the CSG's description */
+    int          light_kind;    /* shadow rays: LC_LIGHT_POINT, ... */
     int          light;         /* shadow rays: the point light's index, 0-based, or
                                 ** -1 - n for the emissive shape n (0-based) */
     lc_color     contribution;  /* what this ray adds to the pixel's value */
@@ -671,6 +763,11 @@ void      lc_save_abandon(void);
 ** LC_MAX_SIDE or LC_MAX_PIXELS are refused, naming the cap. */
 lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err);
 
+/* Reads a Radiance .hdr (RGBE) image, linear floats as stored (through
+** stb_image). Sizes past LC_MAX_SIDE or LC_MAX_PIXELS, NaN or infinite
+** values are refused, naming the file. */
+lc_image *lc_image_load_hdr(const char *path, lc_error *err);
+
 /* An image may carry an alpha channel (a render with alpha, a file with one):
 ** linear, one value per pixel; colours stay premultiplied by it in memory, as
 ** a render makes them and as EXR stores them. */
@@ -694,6 +791,9 @@ lc_status lc_image_set_window(lc_image *img, lc_window w, lc_error *err); /* fit
 ** oFFs chunk (its offset in pixels) and a tEXt chunk "lancer:frame" holding
 ** "W H", the frame's size. */
 typedef enum { LC_EXR_HALF, LC_EXR_FLOAT } lc_exr_pixel;
+/* What happens to a value past 1 (after exposure): clipped (the default), or
+** rolled off by a filmic curve (lc_tone_curve) so highlights keep detail. */
+typedef enum { LC_TONE_CLAMP, LC_TONE_FILMIC } lc_tone;
 typedef enum { LC_EXR_ZIP, LC_EXR_PIZ, LC_EXR_ZIPS, LC_EXR_RLE, LC_EXR_NONE } lc_exr_compression;
 typedef struct {
     lc_encoding encoding;            /* PNG: sRGB (default) or linear; EXR is linear */
@@ -703,7 +803,18 @@ typedef struct {
     lc_exr_compression exr_compression;  /* EXR: zip (default) */
     int         exr_tile;            /* EXR: 0 scanlines (default), else square tiles of
                                      ** this side, 1..LC_MAX_EXR_TILE */
+    double      exposure;            /* colours times 2^exposure before the tone curve,
+                                     ** in [-LC_MAX_EXPOSURE, LC_MAX_EXPOSURE]; 0 */
+    lc_tone     tone;                /* LC_TONE_CLAMP (default) or LC_TONE_FILMIC */
 } lc_save_options;
+
+#define LC_MAX_EXPOSURE 64
+
+/* The tone curve applied to one linear channel x (after exposure), before
+** encoding: LC_TONE_CLAMP is x itself (clamped to [0, 1] by the encoding);
+** LC_TONE_FILMIC is Narkowicz's fit of the ACES reference curve (2015),
+** x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), clamped to [0, 1]. */
+double lc_tone_curve(double x, lc_tone tone);
 
 #define LC_MAX_EXR_TILE 4096
 

@@ -44,7 +44,13 @@ static void push_node(lua_State *L, const lc_ray_record *x)
     if (x->kind == LC_RAY_SHADOW || x->kind == LC_RAY_LIGHT) {
         lua_pushboolean(L, x->hit);
         set_raw(L, "visible");
-        if (x->light >= 0)
+        if (x->light_kind == LC_LIGHT_SPOT)
+            lua_pushfstring(L, "spot light %d", x->light + 1);
+        else if (x->light_kind == LC_LIGHT_DIRECTIONAL)
+            lua_pushfstring(L, "directional light %d", x->light + 1);
+        else if (x->light_kind == LC_LIGHT_SKY)
+            lua_pushliteral(L, "the sky");
+        else if (x->light >= 0)
             lua_pushfstring(L, "point light %d", x->light + 1);
         else
             lua_pushfstring(L, "emissive %d", -x->light);

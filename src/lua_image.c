@@ -33,6 +33,7 @@ static int w_image_free(lua_State *L)              /* __gc and __close */
 static const char *const encoding_opts[] = {"srgb", "linear", NULL};
 static const char *const pixel_opts[] = {"half", "float", NULL};
 static const char *const compression_opts[] = {"zip", "piz", "zips", "rle", "none", NULL};
+static const char *const tone_opts[] = {"clamp", "filmic", NULL};
 
 /* Checks save's arguments: the image at 1, the path at 2, options at 3.
 ** Reading the options may run a script's metamethods: save_work checks the
@@ -40,7 +41,7 @@ static const char *const compression_opts[] = {"zip", "piz", "zips", "rle", "non
 static void save_args(lua_State *L, lc_save_options *o)
 {
     static const char *const known[] = {"encoding", "depth", "alpha", "pixel",
-                                        "compression", "tile", NULL};
+                                        "compression", "tile", "exposure", "tone", NULL};
     check_image(L, 1);
     luaL_checktype(L, 2, LUA_TSTRING);       /* a number is no file name */
     lua_settop(L, 3);
@@ -57,6 +58,11 @@ static void save_args(lua_State *L, lc_save_options *o)
     o->exr_compression = (lc_exr_compression)lf_option(L, 3, "compression",
                                                        compression_opts, 0);
     o->exr_tile = lf_integer(L, 3, "tile", 0, 0);
+    o->exposure = lf_number(L, 3, "exposure", 0, 0);
+    if (!(o->exposure >= -LC_MAX_EXPOSURE && o->exposure <= LC_MAX_EXPOSURE))
+        lf_error(L, 3, "exposure", "must be in [-%d, %d] stops, got %f", LC_MAX_EXPOSURE,
+                 LC_MAX_EXPOSURE, o->exposure);
+    o->tone = (lc_tone)lf_option(L, 3, "tone", tone_opts, 0);
     if (o->exr_tile < 0 || o->exr_tile > LC_MAX_EXR_TILE)
         lf_error(L, 3, "tile", "must be 0 (scanlines) or 1..%d, got %d", LC_MAX_EXR_TILE,
                  o->exr_tile);
@@ -83,7 +89,8 @@ static int save_plain(lua_State *L)
     return save_work(L, &o, 1);
 }
 
-/* img:save(path [, {encoding, depth, alpha, pixel, compression, tile}]): the
+/* img:save(path [, {encoding, depth, alpha, pixel, compression, tile, exposure,
+** tone}]): the
 ** image, written by rename, in the format the extension names. */
 static int w_image_save(lua_State *L)
 {
@@ -102,6 +109,21 @@ static int w_load_exr(lua_State *L)
     luaL_setmetatable(L, IMAGE);
     lc_error err;
     ui->img = lc_image_load_exr(lua_tostring(L, 1), &err);
+    if (!ui->img)
+        return luaL_argerror(L, 1, err.msg);
+    lancer_charge(L);
+    return 1;
+}
+
+/* lancer.load_hdr(path): a Radiance .hdr image, linear. */
+static int w_load_hdr(lua_State *L)
+{
+    luaL_checktype(L, 1, LUA_TSTRING);
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    ui->img = NULL;
+    luaL_setmetatable(L, IMAGE);
+    lc_error err;
+    ui->img = lc_image_load_hdr(lua_tostring(L, 1), &err);
     if (!ui->img)
         return luaL_argerror(L, 1, err.msg);
     lancer_charge(L);
@@ -339,6 +361,8 @@ void image_register(lua_State *L)
     lua_setfield(L, -2, "load_png");
     lua_pushcfunction(L, w_load_exr);
     lua_setfield(L, -2, "load_exr");
+    lua_pushcfunction(L, w_load_hdr);
+    lua_setfield(L, -2, "load_hdr");
     lua_pushcfunction(L, w_merge);
     lua_setfield(L, -2, "merge_tiles");
     lua_pushcfunction(L, w_image);

@@ -406,7 +406,8 @@ static const lc_mtl *push_libraries(lua_State *L, const lc_mesh *m, const char *
     lc_mtl *all = lua_newuserdatauv(L, (total ? total : 1) * sizeof *all, 0);
     *n = 0;
     for (size_t l = 0; l < nlibs; l++) {
-        memcpy(all + *n, part[l], count[l] * sizeof *all);
+        if (count[l])                   /* a library not there has none, and no list */
+            memcpy(all + *n, part[l], count[l] * sizeof *all);
         *n += count[l];
         free(part[l]);
     }

@@ -332,9 +332,8 @@ int motion_moved(lua_State *L)
     }
     ud_light *li = luaL_testudata(L, 1, LIGHT);
     if (li) {
-        lc_point_light l = li->l;
-        l.position = lc_transform_point(t, l.position);
-        if (lc_point_light_check(&l, &err))
+        ud_light l;
+        if (!objects_light_moved(li, t, &l, &err))
             return luaL_argerror(L, 2, err.msg);
         objects_push_light(L, &l);
         return 1;

@@ -1,4 +1,5 @@
-/* lua_objects.c: materials, point lights and cameras (shapes: lua_shapes.c). */
+/* lua_objects.c: materials, lights (point, spot, directional) and cameras
+** (shapes: lua_shapes.c). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -245,21 +246,68 @@ void objects_push_material(lua_State *L, const lc_material *m)
     lua_setiuservalue(L, -2, 1);
 }
 
-void objects_push_light(lua_State *L, const lc_point_light *l)
+void objects_push_light(lua_State *L, const ud_light *l)
 {
     ud_light *u = lua_newuserdatauv(L, sizeof *u, 0);
-    u->l = *l;
+    *u = *l;
     luaL_setmetatable(L, LIGHT);
+}
+
+int objects_light_moved(const ud_light *l, const lc_transform *t, ud_light *out,
+                        lc_error *err)
+{
+    *out = *l;
+    switch (l->kind) {
+    case LC_OBJECT_SPOT_LIGHT:
+        out->spot.position = lc_transform_point(t, l->spot.position);
+        out->spot.direction = lc_transform_vector(t, l->spot.direction);
+        return lc_spot_light_check(&out->spot, err) == LC_OK;
+    case LC_OBJECT_DIRECTIONAL_LIGHT:
+        out->sun.direction = lc_transform_vector(t, l->sun.direction);
+        return lc_directional_light_check(&out->sun, err) == LC_OK;
+    default:
+        out->l.position = lc_transform_point(t, l->l.position);
+        return lc_point_light_check(&out->l, err) == LC_OK;
+    }
+}
+
+int objects_light_add(lc_scene *s, const ud_light *l, lc_error *err)
+{
+    switch (l->kind) {
+    case LC_OBJECT_SPOT_LIGHT: return lc_scene_add_spot_light(s, &l->spot, err);
+    case LC_OBJECT_DIRECTIONAL_LIGHT: return lc_scene_add_directional_light(s, &l->sun, err);
+    default: return lc_scene_add_light(s, &l->l, err);
+    }
+}
+
+ud_light objects_light_of(const lc_object *o)
+{
+    ud_light l;
+    memset(&l, 0, sizeof l);
+    l.kind = o->kind;
+    l.l = o->light;
+    l.spot = o->spot;
+    l.sun = o->sun;
+    return l;
 }
 
 /* ---- lights and cameras ----------------------------------------------------- */
 
 static const char *const falloff_opts[] = {"inverse_square", "none", NULL};
 
+static int push_new_light(lua_State *L, const ud_light *l)
+{
+    objects_push_light(L, l);
+    return 1;
+}
+
 static int w_point_light(lua_State *L)
 {
     static const char *const known[] = {"position", "color", "intensity", "falloff", NULL};
     lf_open(L, 1, known);
+    ud_light u;
+    memset(&u, 0, sizeof u);
+    u.kind = LC_OBJECT_LIGHT;
     lc_point_light l = lc_point_light_default();
     l.position = lf_vec3(L, 1, "position", 1, l.position);
     l.color = lf_color(L, 1, "color", 0, l.color);
@@ -268,41 +316,146 @@ static int w_point_light(lua_State *L)
     lc_error err;
     if (lc_point_light_check(&l, &err))
         return lf_raise(L, 1, &err);
-    ud_light *u = lua_newuserdatauv(L, sizeof *u, 0);
-    u->l = l;
-    luaL_setmetatable(L, LIGHT);
-    return 1;
+    u.l = l;
+    return push_new_light(L, &u);
+}
+
+/* lancer.spot_light{position, direction or at, angle = 30, soft = 5, color,
+** intensity, falloff}: `at` is a point the axis goes through. */
+static int w_spot_light(lua_State *L)
+{
+    static const char *const known[] = {"position", "direction", "at", "angle", "soft",
+                                        "color", "intensity", "falloff", NULL};
+    lf_open(L, 1, known);
+    ud_light u;
+    memset(&u, 0, sizeof u);
+    u.kind = LC_OBJECT_SPOT_LIGHT;
+    lc_spot_light l = lc_spot_light_default();
+    l.position = lf_vec3(L, 1, "position", 1, l.position);
+    int dir = lf_present(L, 1, "direction"), at = lf_present(L, 1, "at");
+    if (dir && at)
+        return lf_error(L, 1, "at", "'direction' is given too: give one of them");
+    if (!dir && !at)
+        return lf_error(L, 1, "direction", "required (or 'at', a point it shines on)");
+    if (dir) {
+        l.direction = lf_vec3(L, 1, "direction", 1, l.direction);
+    } else {
+        lc_vec3 p = lf_vec3(L, 1, "at", 1, l.position);
+        l.direction = (lc_vec3){p.x - l.position.x, p.y - l.position.y, p.z - l.position.z};
+        if (l.direction.x == 0 && l.direction.y == 0 && l.direction.z == 0)
+            return lf_error(L, 1, "at", "must differ from 'position'");
+    }
+    l.angle = lf_number(L, 1, "angle", 0, l.angle);
+    l.soft = lf_number(L, 1, "soft", 0, l.soft < l.angle ? l.soft : l.angle);
+    l.color = lf_color(L, 1, "color", 0, l.color);
+    l.intensity = lf_number(L, 1, "intensity", 0, l.intensity);
+    l.falloff = (lc_falloff)lf_option(L, 1, "falloff", falloff_opts, (int)l.falloff);
+    lc_error err;
+    if (lc_spot_light_check(&l, &err))
+        return lf_raise(L, 1, &err);
+    u.spot = l;
+    return push_new_light(L, &u);
+}
+
+/* lancer.directional_light{direction, irradiance = pi, color}. */
+static int w_directional_light(lua_State *L)
+{
+    static const char *const known[] = {"direction", "irradiance", "color", NULL};
+    lf_open(L, 1, known);
+    ud_light u;
+    memset(&u, 0, sizeof u);
+    u.kind = LC_OBJECT_DIRECTIONAL_LIGHT;
+    lc_directional_light l = lc_directional_light_default();
+    l.direction = lf_vec3(L, 1, "direction", 1, l.direction);
+    l.irradiance = lf_number(L, 1, "irradiance", 0, l.irradiance);
+    l.color = lf_color(L, 1, "color", 0, l.color);
+    lc_error err;
+    if (lc_directional_light_check(&l, &err))
+        return lf_raise(L, 1, &err);
+    u.sun = l;
+    return push_new_light(L, &u);
 }
 
 static int w_light_tostring(lua_State *L)
 {
-    const lc_point_light *l = &((ud_light *)luaL_checkudata(L, 1, LIGHT))->l;
+    const ud_light *u = luaL_checkudata(L, 1, LIGHT);
     luaL_Buffer b;
     luaL_buffinit(L, &b);
-    luaL_addstring(&b, "lancer.point_light{");
-    lf_add_vec3(&b, "position", l->position);
-    luaL_addstring(&b, ", ");
-    buf_color(&b, "color", l->color);
-    luaL_addstring(&b, ", intensity = ");
-    lf_add_number(&b, l->intensity);
-    luaL_addstring(&b, ", falloff = '");
-    luaL_addstring(&b, falloff_opts[l->falloff]);
-    luaL_addstring(&b, "'}");
+    if (u->kind == LC_OBJECT_SPOT_LIGHT) {
+        const lc_spot_light *l = &u->spot;
+        luaL_addstring(&b, "lancer.spot_light{");
+        lf_add_vec3(&b, "position", l->position);
+        luaL_addstring(&b, ", ");
+        lf_add_vec3(&b, "direction", l->direction);
+        luaL_addstring(&b, ", angle = ");
+        lf_add_number(&b, l->angle);
+        luaL_addstring(&b, ", soft = ");
+        lf_add_number(&b, l->soft);
+        luaL_addstring(&b, ", ");
+        buf_color(&b, "color", l->color);
+        luaL_addstring(&b, ", intensity = ");
+        lf_add_number(&b, l->intensity);
+        luaL_addstring(&b, ", falloff = '");
+        luaL_addstring(&b, falloff_opts[l->falloff]);
+        luaL_addstring(&b, "'}");
+    } else if (u->kind == LC_OBJECT_DIRECTIONAL_LIGHT) {
+        const lc_directional_light *l = &u->sun;
+        luaL_addstring(&b, "lancer.directional_light{");
+        lf_add_vec3(&b, "direction", l->direction);
+        luaL_addstring(&b, ", irradiance = ");
+        lf_add_number(&b, l->irradiance);
+        luaL_addstring(&b, ", ");
+        buf_color(&b, "color", l->color);
+        luaL_addstring(&b, "}");
+    } else {
+        const lc_point_light *l = &u->l;
+        luaL_addstring(&b, "lancer.point_light{");
+        lf_add_vec3(&b, "position", l->position);
+        luaL_addstring(&b, ", ");
+        buf_color(&b, "color", l->color);
+        luaL_addstring(&b, ", intensity = ");
+        lf_add_number(&b, l->intensity);
+        luaL_addstring(&b, ", falloff = '");
+        luaL_addstring(&b, falloff_opts[l->falloff]);
+        luaL_addstring(&b, "'}");
+    }
     luaL_pushresult(&b);
     return 1;
 }
 
 static int w_light_index(lua_State *L)
 {
-    const lc_point_light *l = &((ud_light *)luaL_checkudata(L, 1, LIGHT))->l;
+    const ud_light *u = luaL_checkudata(L, 1, LIGHT);
     const char *k = luaL_checkstring(L, 2);
-    if (strcmp(k, "kind") == 0) lua_pushstring(L, "point_light");
-    else if (strcmp(k, "position") == 0) lf_push_vec3(L, l->position);
-    else if (strcmp(k, "color") == 0) lf_push_color(L, l->color);
-    else if (strcmp(k, "intensity") == 0) lua_pushnumber(L, l->intensity);
-    else if (strcmp(k, "falloff") == 0) lua_pushstring(L, falloff_opts[l->falloff]);
-    else if (strcmp(k, "moved") == 0) lua_pushcfunction(L, motion_moved);
-    else lua_pushnil(L);
+    if (strcmp(k, "moved") == 0) {
+        lua_pushcfunction(L, motion_moved);
+    } else if (u->kind == LC_OBJECT_SPOT_LIGHT) {
+        const lc_spot_light *l = &u->spot;
+        if (strcmp(k, "kind") == 0) lua_pushstring(L, "spot_light");
+        else if (strcmp(k, "position") == 0) lf_push_vec3(L, l->position);
+        else if (strcmp(k, "direction") == 0) lf_push_vec3(L, l->direction);
+        else if (strcmp(k, "angle") == 0) lua_pushnumber(L, l->angle);
+        else if (strcmp(k, "soft") == 0) lua_pushnumber(L, l->soft);
+        else if (strcmp(k, "color") == 0) lf_push_color(L, l->color);
+        else if (strcmp(k, "intensity") == 0) lua_pushnumber(L, l->intensity);
+        else if (strcmp(k, "falloff") == 0) lua_pushstring(L, falloff_opts[l->falloff]);
+        else lua_pushnil(L);
+    } else if (u->kind == LC_OBJECT_DIRECTIONAL_LIGHT) {
+        const lc_directional_light *l = &u->sun;
+        if (strcmp(k, "kind") == 0) lua_pushstring(L, "directional_light");
+        else if (strcmp(k, "direction") == 0) lf_push_vec3(L, l->direction);
+        else if (strcmp(k, "irradiance") == 0) lua_pushnumber(L, l->irradiance);
+        else if (strcmp(k, "color") == 0) lf_push_color(L, l->color);
+        else lua_pushnil(L);
+    } else {
+        const lc_point_light *l = &u->l;
+        if (strcmp(k, "kind") == 0) lua_pushstring(L, "point_light");
+        else if (strcmp(k, "position") == 0) lf_push_vec3(L, l->position);
+        else if (strcmp(k, "color") == 0) lf_push_color(L, l->color);
+        else if (strcmp(k, "intensity") == 0) lua_pushnumber(L, l->intensity);
+        else if (strcmp(k, "falloff") == 0) lua_pushstring(L, falloff_opts[l->falloff]);
+        else lua_pushnil(L);
+    }
     return 1;
 }
 
@@ -375,7 +528,9 @@ void objects_register(lua_State *L)
     static const luaL_Reg camera_meta[] = {
         {"__tostring", w_camera_tostring}, {"__index", w_camera_index}, {NULL, NULL}};
     static const luaL_Reg funcs[] = {
-        {"material", w_material}, {"point_light", w_point_light}, {"camera", w_camera},
+        {"material", w_material}, {"point_light", w_point_light},
+        {"spot_light", w_spot_light}, {"directional_light", w_directional_light},
+        {"camera", w_camera},
         {NULL, NULL}};
     lancer_class(L, MATERIAL, material_meta, NULL);
     lancer_class(L, LIGHT, light_meta, NULL);

@@ -107,6 +107,43 @@ void render_read_options(lua_State *L, int arg, lc_render_options *o)
     o->min_samples = lf_integer(L, arg, "min_samples", 0, o->min_samples);
     o->glossy = lf_boolean(L, arg, "glossy", 1);
     o->alpha = lf_boolean(L, arg, "alpha", 0);
+    o->indirect = lf_integer(L, arg, "indirect", 0, 0);
+    o->roulette = lf_boolean(L, arg, "roulette", 1);
+    o->nee = lf_boolean(L, arg, "nee", 1);
+    /* ao = {samples = N, distance = D}: both required. */
+    if (lua_getfield(L, arg, "ao") != LUA_TNIL) {
+        static const char *const ao_known[] = {"samples", "distance", NULL};
+        if (lua_type(L, -1) != LUA_TTABLE)
+            lf_error(L, arg, "ao", "{samples = N, distance = D} expected, got %s",
+                     luaL_typename(L, -1));
+        int at = lua_gettop(L);
+        lua_pushnil(L);
+        while (lua_next(L, at)) {
+            lua_pop(L, 1);
+            const char *k = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : NULL;
+            int ok = 0;
+            for (int i = 0; k && ao_known[i]; i++)
+                ok |= strcmp(k, ao_known[i]) == 0;
+            if (!ok)
+                lf_error(L, arg, "ao", "unknown field '%s'; known fields are samples, "
+                         "distance", k ? k : luaL_typename(L, -1));
+        }
+        lua_getfield(L, at, "samples");
+        int isint;
+        lua_Integer n = lua_tointegerx(L, -1, &isint);
+        if (!isint || n < 1 || n > LC_MAX_AO_SAMPLES)
+            lf_error(L, arg, "ao", "samples: an integer in [1, %d] expected, got %s",
+                     LC_MAX_AO_SAMPLES, luaL_tolstring(L, -1, NULL));
+        lua_getfield(L, at, "distance");
+        double d = lua_tonumber(L, -1);
+        if (lua_type(L, -1) != LUA_TNUMBER || !(d > 0 && d <= LC_MAX_COORD))
+            lf_error(L, arg, "ao", "distance: a number in (0, %g] expected, got %s",
+                     LC_MAX_COORD, luaL_tolstring(L, -1, NULL));
+        o->ao_samples = (int)n;
+        o->ao_distance = d;
+        lua_settop(L, at);
+    }
+    lua_pop(L, 1);
     /* region = {x0, y0, x1, y1}: whole numbers; the core checks they fit. */
     if (lua_getfield(L, arg, "region") != LUA_TNIL) {
         if (lua_type(L, -1) != LUA_TTABLE)

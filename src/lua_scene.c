@@ -44,6 +44,24 @@ static void set_camera(lua_State *L, int sidx, int cidx, int arg, const char *fi
     lua_pop(L, 1);
 }
 
+/* The texture at tidx becomes the background of the scene at sidx: added
+** to the scene (raising at arg) and kept in its user value to read back. */
+static void set_background(lua_State *L, int sidx, int tidx, int arg)
+{
+    tidx = lua_absindex(L, tidx);
+    int index = texture_scene_index(L, sidx, tidx, arg, 0);
+    lc_scene *s = scene_at(L, sidx);
+    lc_settings st = lc_scene_settings(s);
+    st.background_texture = 1 + index;
+    lc_error err;
+    if (lc_scene_configure(s, &st, &err))
+        luaL_error(L, "scene.background: %s", err.msg);
+    lua_getiuservalue(L, sidx, 1);
+    lua_pushvalue(L, tidx);
+    lua_rawseti(L, -2, SC_BACKGROUND);
+    lua_pop(L, 1);
+}
+
 static int w_scene(lua_State *L)
 {
     static const char *const known[] = {"camera", "background", "ambient", "max_depth",
@@ -54,7 +72,11 @@ static int w_scene(lua_State *L)
     }
     lf_open(L, 1, known);
     lc_settings st = lc_settings_default();
-    st.background = lf_color(L, 1, "background", 0, st.background);
+    lua_getfield(L, 1, "background");
+    int sky = texture_check(L, -1);
+    lua_pop(L, 1);
+    if (!sky)
+        st.background = lf_color(L, 1, "background", 0, st.background);
     st.ambient = lf_color(L, 1, "ambient", 0, st.ambient);
     st.max_depth = lf_integer(L, 1, "max_depth", 0, st.max_depth);  /* range: the core's */
     int has_camera = lf_present(L, 1, "camera");
@@ -80,6 +102,11 @@ static int w_scene(lua_State *L)
         return luaL_error(L, "%s", err.msg);
     if (lc_scene_configure(u->s, &st, &err))
         return lf_raise(L, 1, &err);
+    if (sky) {
+        lua_getfield(L, 1, "background");
+        set_background(L, sidx, lua_gettop(L), 1);
+        lua_pop(L, 1);
+    }
     if (has_camera) {
         lua_getfield(L, 1, "camera");
         set_camera(L, sidx, lua_gettop(L), 1, "camera");
@@ -245,10 +272,8 @@ static void flatten(lua_State *L, int idx, int arg, int depth, lua_Integer elem,
         if (t && lc_shape_transform(&sh->s, t, &out, &err))
             element_error(L, arg, elem, err.msg);
     } else if (li) {
-        lc_point_light l = li->l;
-        if (t)
-            l.position = lc_transform_point(t, l.position);
-        if (lc_point_light_check(&l, &err))
+        ud_light l;
+        if (t && !objects_light_moved(li, t, &l, &err))
             element_error(L, arg, elem, err.msg);
     } else if (me) {
         if (!me->m)
@@ -394,10 +419,10 @@ static void add_one(lua_State *L, int idx, int arg, int xf)
     }
     ud_light *li = luaL_testudata(L, idx, LIGHT);
     if (li) {
-        lc_point_light l = li->l;
-        if (t)
-            l.position = lc_transform_point(t, l.position);
-        if (lc_scene_add_light(scene_at(L, 1), &l, &err) < 0)
+        ud_light l = *li;
+        if (t && !objects_light_moved(li, t, &l, &err))
+            lf_raise(L, arg, &err);
+        if (objects_light_add(scene_at(L, 1), &l, &err) < 0)
             lf_raise(L, arg, &err);
         return;
     }
@@ -543,6 +568,8 @@ static int w_scene_transformed(lua_State *L)
     lua_rawseti(L, -3, SC_MESHES);
     lua_rawgeti(L, -1, SC_TEXTURES);       /* the copy keeps their order */
     lua_rawseti(L, -3, SC_TEXTURES);
+    lua_rawgeti(L, -1, SC_BACKGROUND);
+    lua_rawseti(L, -3, SC_BACKGROUND);
     lua_pop(L, 1);
     lua_setiuservalue(L, ci, 1);
     lc_error err;
@@ -611,6 +638,9 @@ static int w_scene_index(lua_State *L)
     if (strcmp(k, "camera") == 0) {
         lua_getiuservalue(L, 1, 1);
         lua_rawgeti(L, -1, SC_CAMERA);
+    } else if (strcmp(k, "background") == 0 && st.background_texture > 0) {
+        lua_getiuservalue(L, 1, 1);
+        lua_rawgeti(L, -1, SC_BACKGROUND);
     } else if (strcmp(k, "background") == 0) {
         lf_push_color(L, st.background);
     } else if (strcmp(k, "ambient") == 0) {
@@ -634,9 +664,13 @@ static int w_scene_newindex(lua_State *L)
     if (strcmp(k, "camera") == 0) {
         set_camera(L, 1, 3, 0, k);
         return 0;
+    } else if (strcmp(k, "background") == 0 && texture_check(L, 3)) {
+        set_background(L, 1, 3, 3);
+        return 0;
     } else if (strcmp(k, "background") == 0 || strcmp(k, "ambient") == 0) {
         if (!lf_to_color(L, 3, &c, why, sizeof why))
-            return luaL_error(L, "scene.%s: %s", k, why);
+            return luaL_error(L, "scene.%s: %s%s", k, why,
+                              k[0] == 'b' ? " (or a texture over directions)" : "");
     } else if (strcmp(k, "max_depth") == 0) {
         int isint;
         d = lua_tointegerx(L, 3, &isint);
@@ -654,10 +688,14 @@ static int w_scene_newindex(lua_State *L)
     if (!s)
         return luaL_error(L, "scene.%s: lancer.Scene already freed", k);
     lc_settings st = lc_scene_settings(s);
-    if (k[0] == 'm')
+    if (k[0] == 'm') {
         st.max_depth = (int)d;
-    else
-        *(k[0] == 'b' ? &st.background : &st.ambient) = c;
+    } else if (k[0] == 'b') {
+        st.background = c;
+        st.background_texture = 0;          /* a colour again */
+    } else {
+        st.ambient = c;
+    }
     lc_error err;
     if (lc_scene_configure(s, &st, &err))
         return luaL_error(L, "scene.%s: %s", k, err.msg);

@@ -64,11 +64,15 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
         csg_lua_push_listed(L, o->csg, o->csg_nodes, mats, -1);
         lua_remove(L, -2);
         break;
-    default:
-        lua_pushliteral(L, "point_light");
+    default: {
+        ud_light l = objects_light_of(o);
+        lua_pushstring(L, o->kind == LC_OBJECT_SPOT_LIGHT ? "spot_light" :
+                          o->kind == LC_OBJECT_DIRECTIONAL_LIGHT ? "directional_light" :
+                          "point_light");
         lua_setfield(L, e, "kind");
-        objects_push_light(L, &o->light);
+        objects_push_light(L, &l);
         break;
+    }
     }
     lua_setfield(L, e, "object");
     lua_setfield(L, e, "material");
@@ -103,6 +107,13 @@ static int matches(lua_State *L, int idx, const lc_object *o)
     if (sh)
         return o->kind == LC_OBJECT_SHAPE && shapes_match(&sh->s, &o->shape);
     ud_light *li = luaL_testudata(L, idx, LIGHT);
+    if (li && li->kind == LC_OBJECT_SPOT_LIGHT)
+        return o->kind == li->kind && same_vec(li->spot.position, o->spot.position) &&
+               same_vec(li->spot.direction, o->spot.direction) &&
+               li->spot.intensity == o->spot.intensity && li->spot.angle == o->spot.angle;
+    if (li && li->kind == LC_OBJECT_DIRECTIONAL_LIGHT)
+        return o->kind == li->kind && same_vec(li->sun.direction, o->sun.direction) &&
+               li->sun.irradiance == o->sun.irradiance;
     if (li)
         return o->kind == LC_OBJECT_LIGHT && same_vec(li->l.position, o->light.position) &&
                li->l.intensity == o->light.intensity;

@@ -1,5 +1,5 @@
 /* lua_texture.c: textures: lancer.checker, stripes, gradient, noise, marble,
-** wood, image_texture and mix; tex:moved(T); their registration in a scene
+** wood, image_texture, mix and sky; tex:moved(T); their registration in a scene
 ** when a material that uses them is added. */
 #include <math.h>
 #include <string.h>
@@ -14,7 +14,8 @@
 enum { TU_A = 1, TU_B, TU_AMOUNT, TU_IMAGE, TU_COUNT = TU_IMAGE };
 
 static const char *const kind_names[LC_TEX_KINDS] = {
-    "checker", "stripes", "gradient", "noise", "marble", "wood", "image_texture", "mix"};
+    "checker", "stripes", "gradient", "noise", "marble", "wood", "image_texture", "mix",
+    "sky"};
 static const char *const mapping_opts[] = {"world", "object", "uv", NULL};
 static const char *const wrap_opts[] = {"repeat", "clamp", "mirror", NULL};
 static const char *const filter_opts[] = {"bilinear", "nearest", NULL};
@@ -46,8 +47,14 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
     lc_texture t = lc_texture_default(kind);
     ud_texture *u = push_texture(L, &t);
     int tex = lua_gettop(L);
-    read_slot(L, "a", &t.a, tex, TU_A);
-    read_slot(L, "b", &t.b, tex, TU_B);
+    if (kind == LC_TEX_SKY) {            /* zenith, horizon, ground: colours */
+        t.a = lf_color(L, 1, "zenith", 1, t.a);
+        t.b = lf_color(L, 1, "horizon", 1, t.b);
+        t.c = lf_color(L, 1, "ground", 0, t.b);
+    } else {
+        read_slot(L, "a", &t.a, tex, TU_A);
+        read_slot(L, "b", &t.b, tex, TU_B);
+    }
     t.scale = lf_number(L, 1, "scale", 0, t.scale);
     t.mapping = (lc_texture_mapping)lf_option(L, 1, "mapping", mapping_opts, (int)t.mapping);
     switch (kind) {
@@ -73,10 +80,13 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
         } else {
             lua_getfield(L, 1, "path");
             if (!lua_isstring(L, -1))
-                return lf_error(L, 1, "image", "an image or a path to a PNG expected");
+                return lf_error(L, 1, "image", "an image or a path to a PNG or .hdr file expected");
             lancer_check_file(L, 1, lua_tostring(L, -1), 0);
             lc_error err;
-            lc_image *img = lc_image_load_png(lua_tostring(L, -1), LC_ENCODE_SRGB, &err);
+            const char *path = lua_tostring(L, -1), *dot = strrchr(path, '.');
+            int hdr = dot && (strcmp(dot, ".hdr") == 0 || strcmp(dot, ".HDR") == 0);
+            lc_image *img = hdr ? lc_image_load_hdr(path, &err)
+                                : lc_image_load_png(path, LC_ENCODE_SRGB, &err);
             if (!img)
                 return lf_error(L, 1, "path", "%s", err.msg);
             ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);
@@ -162,6 +172,13 @@ static int w_image_texture(lua_State *L)
     static const char *const known[] = {"image", "path", "wrap", "filter", "scale",
                                         "mapping", NULL};
     return make(L, LC_TEX_IMAGE, known);
+}
+/* lancer.sky{zenith, horizon, ground = horizon}: a gradient over directions,
+** for a background. */
+static int w_sky(lua_State *L)
+{
+    static const char *const known[] = {"zenith", "horizon", "ground", NULL};
+    return make(L, LC_TEX_SKY, known);
 }
 static int w_mix(lua_State *L)
 {
@@ -289,6 +306,6 @@ void texture_register(lua_State *L)
     static const luaL_Reg ctors[] = {
         {"checker", w_checker}, {"stripes", w_stripes}, {"gradient", w_gradient},
         {"noise", w_noise}, {"marble", w_marble}, {"wood", w_wood},
-        {"image_texture", w_image_texture}, {"mix", w_mix}, {NULL, NULL}};
+        {"image_texture", w_image_texture}, {"mix", w_mix}, {"sky", w_sky}, {NULL, NULL}};
     luaL_setfuncs(L, ctors, 0);
 }

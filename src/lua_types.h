@@ -39,7 +39,15 @@ typedef struct { lc_material m; } ud_material;   /* user value 1: its textures, 
                                                   ** field name, or nil */
 typedef struct { lc_texture t; } ud_texture;     /* user values: lua_texture.c */
 typedef struct { lc_shape s; } ud_shape;          /* user value 1: its material */
-typedef struct { lc_point_light l; } ud_light;
+/* A light of any kind (lancer.point_light, spot_light, directional_light):
+** kind is LC_OBJECT_LIGHT, LC_OBJECT_SPOT_LIGHT or LC_OBJECT_DIRECTIONAL_LIGHT,
+** and the field of that kind holds it. */
+typedef struct {
+    lc_object_kind kind;
+    lc_point_light l;
+    lc_spot_light spot;
+    lc_directional_light sun;
+} ud_light;
 typedef struct { lc_camera c; } ud_camera;
 typedef struct {
     lc_scene *s;
@@ -69,7 +77,7 @@ typedef struct {
 ** [SC_CSGS] a table from each CSG object's id (the core's) to the value
 ** added, for scene:remove(csg). */
 enum { SC_CAMERA = 1, SC_MATERIALS = 2, SC_DEFAULT = 3, SC_MESHES = 4, SC_TEXTURES = 5,
-       SC_CSGS = 6 };
+       SC_CSGS = 6, SC_BACKGROUND = 7 };   /* the background's texture, when it is one */
 
 /* A metatable `name` with the metamethods `meta` and, when given, methods
 ** that its __index looks up under "methods". */
@@ -126,7 +134,8 @@ lc_scene *scene_at(lua_State *L, int idx);
 #define RENDER_OPTIONS "width", "height", "samples", "seed", "threads", "cosine", \
                        "cutoff", "shadows", "reflections", "specular", "generic", \
                        "frame", "sampler", "light_samples", "cone_samples", "max_depth", \
-                       "noise", "min_samples", "glossy", "alpha", "region"
+                       "noise", "min_samples", "glossy", "alpha", "region", "indirect", \
+                       "roulette", "nee", "ao"
 void render_read_options(lua_State *L, int arg, lc_render_options *o);
 
 /* lua_hook.c: the host hook (lancer.set_host_hook; the comment there says
@@ -148,8 +157,14 @@ int motion_moved(lua_State *L);
 ** a scene lists (lc_shape_stored, then the kind's fields compared). */
 void shapes_push(lua_State *L, const lc_shape *s, int mat);
 int  shapes_match(const lc_shape *added, const lc_shape *listed);
-/* lua_objects.c: pushes the light userdata for a core value. */
-void objects_push_light(lua_State *L, const lc_point_light *l);
+/* lua_objects.c: pushes a light userdata holding *l; the light moved by t
+** (checked: 1, or 0 with err filled); adds it to the scene (its id, or -1). */
+void objects_push_light(lua_State *L, const ud_light *l);
+int  objects_light_moved(const ud_light *l, const lc_transform *t, ud_light *out,
+                         lc_error *err);
+int  objects_light_add(lc_scene *s, const ud_light *l, lc_error *err);
+/* The light of a scene's listed object o (a light of any kind). */
+ud_light objects_light_of(const lc_object *o);
 /* A material userdata of m, with no texture (lua_objects.c). */
 void objects_push_material(lua_State *L, const lc_material *m);
 /* An image texture of the PNG at path, sRGB-decoded; raises naming `what`

@@ -19,7 +19,7 @@
 
 static const char *const ray_names[LC_RAY_KINDS] = {"camera", "shadow", "reflection",
                                                      "glossy", "light", "cut",
-                                                     "refraction"};
+                                                     "refraction", "indirect", "ao"};
 
 const char *lc_ray_kind_name(lc_ray_kind k)
 {
@@ -40,6 +40,11 @@ const char *lc_need_name(unsigned need)
     case LC_NEED_REFRACT: return "refract";
     case LC_NEED_FILTER: return "filter";
     case LC_NEED_TEXTURE: return "texture";
+    case LC_NEED_SPOT: return "spot";
+    case LC_NEED_SUN: return "sun";
+    case LC_NEED_SKY: return "sky";
+    case LC_NEED_INDIRECT: return "indirect";
+    case LC_NEED_AO: return "ao";
     default: return "?";
     }
 }
@@ -82,6 +87,11 @@ static void tracer_init(tracer *t, lc_scene *s, const lc_render_options *o)
     t->cutoff = o->cutoff;
     t->light_samples = o->light_samples;
     t->cone_samples = o->cone_samples;
+    t->indirect = o->indirect;
+    t->roulette = o->roulette;
+    t->nee = o->nee;
+    t->ao_samples = o->ao_samples;
+    t->ao_distance = o->ao_distance;
 }
 
 /* Camera sample s of n of pixel (x, y): the pixel centre when the pixel
@@ -330,9 +340,11 @@ static int run_pass(job *j, worker *ws, int nt)
 static void warn(const lc_scene *s, const lc_image *img, lc_stats *st)
 {
     st->warning[0] = '\0';
-    if (s->nlights == 0 && s->nemitters == 0 && c_is_black(s->settings.ambient)) {
-        snprintf(st->warning, sizeof st->warning, "the scene has no light (no point "
-                 "light, no emissive shape, no ambient light): only the background shows");
+    if (lc_scene_light_count(s) == 0 && s->nemitters == 0 &&
+        c_is_black(s->settings.ambient) && !s->c.sky_lights) {
+        snprintf(st->warning, sizeof st->warning, "the scene has no light (no point, "
+                 "spot or directional light, no emissive shape, no ambient light): only "
+                 "the background shows");
         return;
     }
     size_t n = 3 * (size_t)img->width * img->height;
@@ -400,7 +412,8 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
     j.tiles_x = (j.ew + TILE - 1) / TILE;
     j.ntiles = j.tiles_x * ((j.eh + TILE - 1) / TILE);
     j.random = o->samples > 1 ||
-               (s->c.needs & (LC_NEED_AREA | LC_NEED_GLOSSY | LC_NEED_LENS)) != 0;
+               (s->c.needs & (LC_NEED_AREA | LC_NEED_GLOSSY | LC_NEED_LENS |
+                              LC_NEED_INDIRECT | LC_NEED_AO)) != 0;
     int nt = o->threads;
     if (nt == 0) {
         long nc = sysconf(_SC_NPROCESSORS_ONLN);

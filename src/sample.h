@@ -20,7 +20,7 @@ typedef struct {
 } pixel_sampler;
 
 /* The purposes of 2D dimensions, combined with depth and emitter below. */
-enum { DIM_PIXEL, DIM_LENS, DIM_CONE, DIM_LIGHT };
+enum { DIM_PIXEL, DIM_LENS, DIM_CONE, DIM_LIGHT, DIM_BSDF, DIM_PATH, DIM_AO };
 
 static inline uint32_t sample_dim(unsigned purpose, unsigned depth, unsigned which)
 {

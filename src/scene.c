@@ -62,6 +62,10 @@ void lc_scene_free(lc_scene *s)
     mem_free(s->meshes);
     mem_free(s->emitters);
     mem_free(s->lights);
+    mem_free(s->spots);
+    mem_free(s->spot_ids);
+    mem_free(s->suns);
+    mem_free(s->sun_ids);
     mem_free(s);
 }
 
@@ -76,6 +80,10 @@ lc_status lc_scene_configure(lc_scene *s, const lc_settings *st, lc_error *err)
                 return error_fail(err, LC_EARG, names[i],
                                "component %d must be finite and >= 0, got %g", k + 1, ch[k]);
     }
+    size_t ntex = s->textures ? lc_textures_count(s->textures) : 0;
+    if (st->background_texture < 0 || (size_t)st->background_texture > ntex)
+        return error_fail(err, LC_EARG, "background", "no texture %d in this scene (it "
+                          "has %zu)", st->background_texture, ntex);
     if (st->max_depth < 0 || st->max_depth > LC_MAX_DEPTH)
         return error_fail(err, LC_EARG, "max_depth", "must be in [0, %d], got %d", LC_MAX_DEPTH,
                        st->max_depth);
@@ -340,8 +348,57 @@ int lc_scene_add_light(lc_scene *s, const lc_point_light *l, lc_error *err)
     return s->next_id++;
 }
 
+/* Makes room for one more light in an array whose ids grow beside it. */
+static int grow_with_ids(void **arr, size_t *cap, size_t n, size_t size, int **ids)
+{
+    size_t before = *cap;
+    if (n >= PRIM_MAX || !grow(arr, cap, n, size))
+        return 0;
+    if (*cap != before || !*ids) {
+        int *p = mem_realloc(*ids, *cap * sizeof **ids);
+        if (!p)
+            return 0;
+        *ids = p;
+    }
+    return 1;
+}
+
+int lc_scene_add_spot_light(lc_scene *s, const lc_spot_light *l, lc_error *err)
+{
+    if (lc_spot_light_check(l, err))
+        return -1;
+    if (!grow_with_ids((void **)&s->spots, &s->capspots, s->nspots, sizeof *s->spots,
+                       &s->spot_ids)) {
+        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a light");
+        return -1;
+    }
+    s->spot_ids[s->nspots] = s->next_id;
+    spot_prepare(l, &s->spots[s->nspots++]);
+    s->c.valid = 0;
+    return s->next_id++;
+}
+
+int lc_scene_add_directional_light(lc_scene *s, const lc_directional_light *l,
+                                   lc_error *err)
+{
+    if (lc_directional_light_check(l, err))
+        return -1;
+    if (!grow_with_ids((void **)&s->suns, &s->capsuns, s->nsuns, sizeof *s->suns,
+                       &s->sun_ids)) {
+        error_fail(err, LC_ENOMEM, NULL, "out of memory adding a light");
+        return -1;
+    }
+    s->sun_ids[s->nsuns] = s->next_id;
+    sun_prepare(l, &s->suns[s->nsuns++]);
+    s->c.valid = 0;
+    return s->next_id++;
+}
+
 size_t lc_scene_shape_count(const lc_scene *s) { return s->nshapes; }
-size_t lc_scene_light_count(const lc_scene *s) { return s->nlights; }
+size_t lc_scene_light_count(const lc_scene *s)
+{
+    return s->nlights + s->nspots + s->nsuns;
+}
 
 static lc_vec3 move(lc_vec3 p, double s, lc_vec3 t)
 {
@@ -371,7 +428,9 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
         if (lc_scene_set_camera(c, &cam, err))
             goto fail;
     }
-    if (s->textures && !(c->textures = textures_transformed(s->textures, scale, t, err)))
+    if (s->textures && !(c->textures = textures_transformed(s->textures, scale, t,
+                                                             s->settings.background_texture,
+                                                             err)))
         goto fail;
     for (size_t i = 0; i < s->nmaterials; i++) {
         lc_material m = s->materials[i];
@@ -462,6 +521,17 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
         if (lc_scene_add_light(c, &l, err) < 0)
             goto fail;
     }
+    for (size_t i = 0; i < s->nspots; i++) {
+        lc_spot_light l = s->spots[i].d;
+        l.position = move(l.position, scale, t);
+        if (l.falloff == LC_FALLOFF_INVERSE_SQUARE)
+            l.intensity *= scale * scale;
+        if (lc_scene_add_spot_light(c, &l, err) < 0)
+            goto fail;
+    }
+    for (size_t i = 0; i < s->nsuns; i++)      /* directions: neither scaled nor moved */
+        if (lc_scene_add_directional_light(c, &s->suns[i].d, err) < 0)
+            goto fail;
     return c;
 fail:
     lc_scene_free(c);

@@ -7,6 +7,7 @@
 #include "affine.h"
 #include "bvh.h"
 #include "csg.h"
+#include "lights.h"
 #include "mesh.h"
 #include "shape.h"
 
@@ -51,6 +52,15 @@ typedef struct {
 ** names a triangle like any other. */
 typedef struct { uint32_t mesh, face; } tri_ref;
 
+/* The sky's light for paths (sky.c): a tabulated distribution over an
+** equirectangular image's texels, or none (w = 0: uniform over the sphere). */
+typedef struct {
+    int     w, h;
+    double *row;           /* h + 1: cumulative weights of the rows, 0 to 1 */
+    double *col;           /* h (w + 1): each row's cumulative weights, 0 to 1 */
+    double *rowp;          /* h: each row's probability */
+} sky_dist;
+
 /* What one render reads and never writes. */
 typedef struct {
     tri_ref *tris;
@@ -61,6 +71,9 @@ typedef struct {
     unsigned needs;        /* LC_NEED_* */
     int      depth;        /* the render's max_depth: its own or the scene's */
     uint16_t *plan;        /* per material, PLAN_* below: decided once per render */
+    int      sky_uv;       /* the background texture reads texture coordinates */
+    int      sky_lights;   /* indirect: the background is not black, it lights */
+    sky_dist sky;          /* indirect: how to sample it */
     char     why[LC_NEEDS][160];
     double   seconds;
     int      valid;        /* matches the scene as it is now */
@@ -86,6 +99,10 @@ struct lc_scene {
     SCENE_ARRAY(csg_tree *, csgs); /* CSG objects, sorted by id */
     SCENE_ARRAY(emitter, emitters);
     SCENE_ARRAY(lc_point_light, lights);
+    SCENE_ARRAY(spot_light, spots);       /* spot lights ... */
+    int        *spot_ids;                 /* ... and their ids, side by side */
+    SCENE_ARRAY(sun_light, suns);         /* directional lights */
+    int        *sun_ids;
     compiled    c;
 };
 
@@ -101,7 +118,8 @@ enum {
     PLAN_GLOSSY   = 1 << 5,   /* kr or kt > 0 through a diffusion cone, and cones on */
     PLAN_REFRACT  = 1 << 6,   /* kt > 0 and max_depth > 0: a dielectric, a medium */
     PLAN_FILTER   = 1 << 7,   /* kt > 0 and shadow = filtered: shadow rays cross it */
-    PLAN_TEXTURED = 1 << 8    /* some field is a texture: evaluated at each hit */
+    PLAN_TEXTURED = 1 << 8,   /* some field is a texture: evaluated at each hit */
+    PLAN_AO       = 1 << 9    /* ambient light times the unoccluded share (ao) */
 };
 
 /* o: the render's switches, or NULL for the defaults; a BVH build stops

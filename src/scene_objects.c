@@ -27,7 +27,10 @@ static long find_mesh(const lc_scene *s, int id)
     return lo < s->nmeshes && s->meshes[lo].id == id ? (long)lo : -1;
 }
 
-size_t lc_scene_object_count(const lc_scene *s) { return s->nshapes + s->nlights; }
+size_t lc_scene_object_count(const lc_scene *s)
+{
+    return s->nshapes + lc_scene_light_count(s);
+}
 
 static void shape_object(lc_object *o, const lc_scene *s, lc_shape_kind kind, size_t i)
 {
@@ -77,20 +80,48 @@ static void light_object(lc_object *o, const lc_scene *s, size_t i)
     o->light = s->lights[i];
 }
 
+static void spot_object(lc_object *o, const lc_scene *s, size_t i)
+{
+    o->kind = LC_OBJECT_SPOT_LIGHT;
+    o->id = s->spot_ids[i];
+    o->material = -1;
+    o->spot = s->spots[i].d;
+}
+
+static void sun_object(lc_object *o, const lc_scene *s, size_t i)
+{
+    o->kind = LC_OBJECT_DIRECTIONAL_LIGHT;
+    o->id = s->sun_ids[i];
+    o->material = -1;
+    o->sun = s->suns[i].d;
+}
+
 /* The sorted lists merged by id: one per shape kind, then meshes, CSG
-** objects, lights. */
-enum { LIST_MESHES = LC_SHAPE_KINDS, LIST_CSGS, LIST_LIGHTS, LISTS };
+** objects, lights of each kind. */
+enum { LIST_MESHES = LC_SHAPE_KINDS, LIST_CSGS, LIST_LIGHTS, LIST_SPOTS, LIST_SUNS, LISTS };
 
 static size_t list_len(const lc_scene *s, int j)
 {
-    return j < LC_SHAPE_KINDS ? s->shapes[j].n : j == LIST_MESHES ? s->nmeshes :
-           j == LIST_CSGS ? s->ncsgs : s->nlights;
+    switch (j) {
+    case LIST_MESHES: return s->nmeshes;
+    case LIST_CSGS: return s->ncsgs;
+    case LIST_LIGHTS: return s->nlights;
+    case LIST_SPOTS: return s->nspots;
+    case LIST_SUNS: return s->nsuns;
+    default: return s->shapes[j].n;
+    }
 }
 
 static int list_id(const lc_scene *s, int j, size_t i)
 {
-    return j < LC_SHAPE_KINDS ? s->shapes[j].id[i] : j == LIST_MESHES ? s->meshes[i].id :
-           j == LIST_CSGS ? s->csgs[i]->id : s->light_ids[i];
+    switch (j) {
+    case LIST_MESHES: return s->meshes[i].id;
+    case LIST_CSGS: return s->csgs[i]->id;
+    case LIST_LIGHTS: return s->light_ids[i];
+    case LIST_SPOTS: return s->spot_ids[i];
+    case LIST_SUNS: return s->sun_ids[i];
+    default: return s->shapes[j].id[i];
+    }
 }
 
 size_t lc_scene_objects(const lc_scene *s, lc_object *out, size_t n)
@@ -117,8 +148,12 @@ size_t lc_scene_objects(const lc_scene *s, lc_object *out, size_t n)
             mesh_object(o, &s->meshes[i]);
         else if (best == LIST_CSGS)
             csg_object(o, s->csgs[i]);
-        else
+        else if (best == LIST_LIGHTS)
             light_object(o, s, i);
+        else if (best == LIST_SPOTS)
+            spot_object(o, s, i);
+        else
+            sun_object(o, s, i);
     }
     return total;
 }
@@ -139,6 +174,10 @@ lc_status lc_scene_object(const lc_scene *s, int id, lc_object *out, lc_error *e
         return csg_object(out, s->csgs[i]), error_ok(err), LC_OK;
     if ((i = find_id(s->light_ids, s->nlights, id)) >= 0)
         return light_object(out, s, (size_t)i), error_ok(err), LC_OK;
+    if ((i = find_id(s->spot_ids, s->nspots, id)) >= 0)
+        return spot_object(out, s, (size_t)i), error_ok(err), LC_OK;
+    if ((i = find_id(s->sun_ids, s->nsuns, id)) >= 0)
+        return sun_object(out, s, (size_t)i), error_ok(err), LC_OK;
     return error_fail(err, LC_EARG, "id", "no object %d in this scene (%s)", id,
                    id >= 0 && id < s->next_id ? "it was removed" : "never added");
 }
@@ -191,6 +230,18 @@ lc_status lc_scene_remove(lc_scene *s, int id, lc_error *err)
         memmove(s->light_ids + i, s->light_ids + i + 1,
                 (s->nlights - (size_t)i - 1) * sizeof *s->light_ids);
         cut(s->lights, &s->nlights, (size_t)i, sizeof *s->lights);
+        break;
+    case LC_OBJECT_SPOT_LIGHT:
+        i = find_id(s->spot_ids, s->nspots, id);
+        memmove(s->spot_ids + i, s->spot_ids + i + 1,
+                (s->nspots - (size_t)i - 1) * sizeof *s->spot_ids);
+        cut(s->spots, &s->nspots, (size_t)i, sizeof *s->spots);
+        break;
+    case LC_OBJECT_DIRECTIONAL_LIGHT:
+        i = find_id(s->sun_ids, s->nsuns, id);
+        memmove(s->sun_ids + i, s->sun_ids + i + 1,
+                (s->nsuns - (size_t)i - 1) * sizeof *s->sun_ids);
+        cut(s->suns, &s->nsuns, (size_t)i, sizeof *s->suns);
         break;
     case LC_OBJECT_CSG:
         i = find_csg(s, id);

@@ -6,6 +6,19 @@
 #include "shade.h"
 #include "surface.h"
 #include "shade_lights.h"
+#include "sky.h"
+
+/* Every light loop at a hit of a scene with glass that shadow rays cross,
+** or with spot or directional lights (LIGHTS_APART), out of the path loop. */
+NEVER_INLINE void lights_apart(tracer *t, const hit *h, const lc_material *m,
+                               unsigned plan, lc_vec3 n, lc_vec3 v, uint32_t index,
+                               uint32_t count, int depth, light_sum *sum)
+{
+    if (t->needs & LC_NEED_FILTER)
+        lights_all(t, h, m, plan, n, v, index, count, depth, sum, 1);
+    else
+        lights_all(t, h, m, plan, n, v, index, count, depth, sum, 0);
+}
 
 /* Where a path stands in the pixel's sample set: camera sample `index` of
 ** `count`, or a cone ray's place among all the pixel's cone rays. */
@@ -51,6 +64,29 @@ static double cone_sample(tracer *t, const lc_material *m, lc_vec3 a, lc_vec3 n,
 
 static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radiance w,
                            int rec, const media *md);
+
+/* Ambient occlusion (render option ao; Tachyon's): the share of ao_samples
+** probes, cosine-weighted about n and stratified over the pixel's samples,
+** that go ao_distance without meeting anything: the ambient light's
+** visibility, cosine-weighted as the light it stands for would be. */
+NEVER_INLINE double ambient_open(tracer *t, const hit *h, lc_vec3 n, const path *pa)
+{
+    uint32_t S = (uint32_t)t->ao_samples, all = sample_nested_count(pa->count, S), open = 0;
+    for (uint32_t j = 0; j < S; j++) {
+        double u[2];
+        uint32_t idx = (uint32_t)(((uint64_t)pa->index * S + j) % all);
+        sample_2d(&t->ps, sample_dim(DIM_AO, (unsigned)pa->depth, 0), idx, all, u);
+        double c = sqrt(u[0]), sn = sqrt(1 - u[0]), phi = 2 * PI * u[1];
+        lc_vec3 b1, b2;
+        sample_frame(n, &b1, &b2);
+        lc_vec3 d = v3_norm(v3_madd(v3_madd(v3_mul(n, c), b1, sn * cos(phi)), b2,
+                                    sn * sin(phi)));
+        ray pr = {spawn_origin(h, d), d};
+        t->rays[LC_RAY_AO]++;
+        open += !intersect_occluded(t->scene, &pr, t->ao_distance, &t->counts);
+    }
+    return (double)open / S;
+}
 
 /* The seed's diffusion cone, done right: M rays over the cone, stratified
 ** over all the pixel's cone rays, each weighted by its cosine with the
@@ -219,7 +255,7 @@ NEVER_INLINE int no_interface(const lc_scene *s, const media *md, const hit *h,
 ** none of explain's, not even their tests. */
 ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
                                   radiance w, int rec, const media *md0, int glass,
-                                  int log)
+                                  int log, int ao)
 {
     const lc_scene *s = t->scene;
     ray r = *r0;
@@ -235,7 +271,8 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
         if (!intersect_closest(s, &r, HUGE_VAL, &h, &t->counts)) {
             if (glass && md.n) /* inside a medium: nothing comes from infinity */
                 w = media_absorb(s, &md, w, HUGE_VAL);
-            radiance bg = r_mul(w, rad(s->settings.background));
+            radiance bg = r_mul(w, t->needs & LC_NEED_SKY ? sky_radiance(s, r.d)
+                                                          : rad(s->settings.background));
             if (log && rec >= 0) {
                 explain_hit(t->log, s, rec, NULL, r.d, w);
                 explain_add(t->log, rec, bg);
@@ -269,10 +306,9 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
 
         light_sum sum = {{0, 0, 0}, {0, 0, 0}};
         if (plan & PLAN_LIGHTS) {
-            if (t->needs & LC_NEED_FILTER) {
+            if (t->needs & LIGHTS_APART) {
                 t->media = &md;
-                lights_filtered(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth,
-                                &sum);
+                lights_apart(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth, &sum);
             } else {
                 if (t->needs & LC_NEED_SHADOW)
                     point_lights(t, &h, m, plan, n, v, &sum, 0);
@@ -285,8 +321,12 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
         }
 
         radiance base = r_scale(sum.diffuse, m->kd);             /* kd Cd */
-        if (plan & PLAN_AMBIENT)
-            base = r_add(base, r_scale(rad(s->settings.ambient), m->ka));
+        if (plan & PLAN_AMBIENT) {
+            radiance amb = r_scale(rad(s->settings.ambient), m->ka);
+            if (ao && (plan & PLAN_AO))
+                amb = r_scale(amb, ambient_open(t, &h, n, &pa));
+            base = r_add(base, amb);
+        }
         radiance spec = r_scale(sum.specular, m->ks);            /* ks H^a Cs */
         radiance local, next, color = rad(m->color);
         if (m->absorb == LC_ABSORB_ALL) {     /* the seed: absorption after the sum */
@@ -365,27 +405,48 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
 static radiance trace_opaque(tracer *t, const ray *r0, path pa, int split, radiance w,
                              int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 0, 0);
+    return trace_loop(t, r0, pa, split, w, rec, md, 0, 0, 0);
 }
 
 static radiance trace_glass(tracer *t, const ray *r0, path pa, int split, radiance w,
                             int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0);
+    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 0);
+}
+
+/* Ambient occlusion, glass or not (the glass code is behind plan bits). */
+static radiance trace_ao(tracer *t, const ray *r0, path pa, int split, radiance w,
+                         int rec, const media *md)
+{
+    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 1);
 }
 
 static radiance trace_explain(tracer *t, const ray *r0, path pa, int split, radiance w,
                               int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 1, 1);
+    return trace_loop(t, r0, pa, split, w, rec, md, 1, 1, 1);
+}
+
+/* The scenes with glass, ambient occlusion or light that bounces share the
+** one test of the needs that glass took before, so an opaque scene's path
+** to trace_opaque is what it was. */
+NEVER_INLINE radiance trace_special(tracer *t, const ray *r0, path pa, int split,
+                                    radiance w, int rec, const media *md)
+{
+    if (t->needs & LC_NEED_INDIRECT)
+        return path_radiance(t, r0, pa.index, pa.count, rec);
+    if (t->needs & LC_NEED_AO)
+        return trace_ao(t, r0, pa, split, w, rec, md);
+    return trace_glass(t, r0, pa, split, w, rec, md);
 }
 
 static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radiance w,
                            int rec, const media *md)
 {
     if (t->log)
-        return trace_explain(t, r0, pa, split, w, rec, md);
-    if (t->needs & LC_NEED_REFRACT)
-        return trace_glass(t, r0, pa, split, w, rec, md);
+        return t->needs & LC_NEED_INDIRECT ? path_radiance(t, r0, pa.index, pa.count, rec)
+                                           : trace_explain(t, r0, pa, split, w, rec, md);
+    if (t->needs & (LC_NEED_REFRACT | LC_NEED_AO | LC_NEED_INDIRECT))
+        return trace_special(t, r0, pa, split, w, rec, md);
     return trace_opaque(t, r0, pa, split, w, rec, md);
 }

@@ -35,6 +35,10 @@ typedef struct {
     double   cutoff;
     int      light_samples;    /* per emissive shape and hit; 0: toward its centre */
     int      cone_samples;     /* > 0: every glossy material's count */
+    int      indirect;         /* > 0: paths (path.c), this many bounces */
+    int      roulette, nee;    /* path.c: Russian roulette; lights sampled */
+    int      ao_samples;       /* > 0: ambient occlusion probes per hit */
+    double   ao_distance;
     pixel_sampler ps;          /* the pixel being traced */
     uint64_t rays[LC_RAY_KINDS];   /* this thread's counts */
     uint64_t self_hits;
@@ -46,5 +50,8 @@ typedef struct {
 
 /* The radiance camera sample `index` of `count` of the pixel brings back. */
 radiance shade_ray(tracer *t, const ray *r, uint32_t index, uint32_t count);
+/* The same by path tracing (LC_NEED_INDIRECT, path.c; shade_ray goes
+** there); rec: the camera ray's explain record, or -1. */
+radiance path_radiance(tracer *t, const ray *r, uint32_t index, uint32_t count, int rec);
 
 #endif

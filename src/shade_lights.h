@@ -1,8 +1,9 @@
-/* shade_lights.h: the light loops at a hit: point lights, the seed's emitters
-** (one ray toward their centre) and emitters sampled as area lights, with
-** the one shadow ray they all trace. Static functions, included by shade.c
-** alone: in a file of their own they no longer inline into the path loop,
-** and B1 took 2.2 % more instructions (callgrind, 320x180). */
+/* shade_lights.h: the light loops at a hit: point, spot and directional
+** lights, the seed's emitters (one ray toward their centre) and emitters
+** sampled as area lights, with the one shadow ray they all trace. Static
+** functions, included by shade.c (and path.c, for the shadow ray): in a
+** file of their own they no longer inline into the path loop, and B1 took
+** 2.2 % more instructions (callgrind, 320x180). */
 #ifndef LC_SHADE_LIGHTS_H
 #define LC_SHADE_LIGHTS_H
 
@@ -63,8 +64,10 @@ static int shadow_filter(tracer *t, ray sr, double reach, int aim, uint32_t skip
     lc_vec3 o0 = sr.o;
     for (;;) {
         double left = reach - v3_dot(v3_sub(sr.o, o0), sr.d);
+        /* A directional light is infinitely far: nothing to stop short of. */
+        double tmax = isinf(left) ? HUGE_VAL : shadow_reach(sr.o, left);
         hit b;
-        if (!intersect_closest(s, &sr, shadow_reach(sr.o, left), &b, &t->counts)) {
+        if (!intersect_closest(s, &sr, tmax, &b, &t->counts)) {
             if (md.n)
                 k = media_absorb(s, &md, k, left);
             break;
@@ -105,10 +108,10 @@ static int shadow_filter(tracer *t, ray sr, double reach, int aim, uint32_t skip
 ** `skip` itself is hit; otherwise any hit on a primitive but `skip` blocks
 ** it. Returns 1 when the light is visible; *rec is its explain record;
 ** with filter (LC_NEED_FILTER), *f what reaches the point of the light's
-** colour. */
+** colour. far (a constant): a directional light, reach infinite. */
 ALWAYS_INLINE int shadow_ray(tracer *t, const hit *h, lc_vec3 l, double reach,
                            const lc_vec3 *aim, lc_ray_kind kind, int light,
-                           uint32_t skip, int *rec, int filter, radiance *f)
+                           uint32_t skip, int *rec, int filter, radiance *f, int far)
 {
     *rec = -1;
     if (!t->shadows) {
@@ -124,7 +127,7 @@ ALWAYS_INLINE int shadow_ray(tracer *t, const hit *h, lc_vec3 l, double reach,
     t->rays[kind]++;
     if (t->log)
         *rec = explain_shadow(t->log, kind, &sr, light, reach);
-    double tmax = shadow_reach(sr.o, reach);
+    double tmax = far ? HUGE_VAL : shadow_reach(sr.o, reach);
     int blocked;
     if (filter) {
         blocked = !shadow_filter(t, sr, reach, aim != NULL, skip, f);
@@ -165,7 +168,7 @@ ALWAYS_INLINE void point_lights(tracer *t, const hit *h, const lc_material *m,
         int rec;
         radiance f;
         if (!shadow_ray(t, h, l, d, NULL, LC_RAY_SHADOW, (int)i, INTERSECT_SKIP_NONE,
-                        &rec, filter, &f))
+                        &rec, filter, &f, 0))
             continue;
         double k = L->intensity;
         if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)
@@ -201,7 +204,7 @@ ALWAYS_INLINE void emitters(tracer *t, const hit *h, const lc_material *m, unsig
         int rec;
         radiance f;
         if (!shadow_ray(t, h, l, d, &e->target, LC_RAY_SHADOW, -1 - (int)i, e->prim,
-                        &rec, filter, &f))
+                        &rec, filter, &f, 0))
             continue;
         double k = shape_light_centre(e->kind, shape_at(&s->shapes[e->kind], e->index), l, d);
         if (k > 1)                  /* no shape gives more than its radiance */
@@ -251,7 +254,7 @@ ALWAYS_INLINE void area_lights(tracer *t, const hit *h, const lc_material *m,
             int rec;
             radiance f;
             if (!shadow_ray(t, h, ls1.l, ls1.dist, NULL, LC_RAY_LIGHT, -1 - (int)i, e->prim,
-                            &rec, filter, &f))
+                            &rec, filter, &f, 0))
                 continue;
             radiance lc = r_scale(rad(e->emission), radiance_cap(ls1.k));
             if (filter)
@@ -261,18 +264,89 @@ ALWAYS_INLINE void area_lights(tracer *t, const hit *h, const lc_material *m,
     }
 }
 
-/* Every light loop at a hit whose shadow rays go through glass: apart, so
-** the loops of opaque scenes stay as they were. */
-NEVER_INLINE void lights_filtered(tracer *t, const hit *h, const lc_material *m,
-                                  unsigned plan, lc_vec3 n, lc_vec3 v, uint32_t index,
-                                  uint32_t count, int depth, light_sum *sum)
+/* Spot lights: point lights whose light is confined to a cone. A point
+** outside the cone takes no shadow ray. */
+ALWAYS_INLINE void spot_lights(tracer *t, const hit *h, const lc_material *m,
+                               unsigned plan, lc_vec3 n, lc_vec3 v, light_sum *sum,
+                               int filter)
+{
+    const lc_scene *s = t->scene;
+    double tooclose2 = 16 * v3_dot(h->perr, h->perr);
+    for (size_t i = 0; i < s->nspots; i++) {
+        const spot_light *L = &s->spots[i];
+        lc_vec3 tol = v3_sub(L->d.position, h->p);
+        double d2 = v3_dot(tol, tol);
+        if (!(d2 > tooclose2))
+            continue;
+        double d = sqrt(d2);
+        lc_vec3 l = v3_mul(tol, 1.0 / d);
+        double cosl = v3_dot(n, l);
+        if (!(cosl > 0))
+            continue;
+        double share = spot_share(L, v3_neg(l));
+        if (!(share > 0))
+            continue;
+        int rec;
+        radiance f;
+        if (!shadow_ray(t, h, l, d, NULL, LC_RAY_SHADOW, EXPLAIN_SPOT(i),
+                        INTERSECT_SKIP_NONE, &rec, filter, &f, 0))
+            continue;
+        double k = L->d.intensity * share;
+        if (L->d.falloff == LC_FALLOFF_INVERSE_SQUARE)
+            k /= d * d;
+        radiance lc = r_scale(rad(L->d.color), radiance_cap(k));
+        if (filter)
+            lc = r_mul(lc, f);
+        add_light(t, m, plan, n, v, l, cosl, lc, sum, rec);
+    }
+}
+
+/* Directional lights: the same direction and light colour everywhere; the
+** shadow ray goes to infinity. */
+ALWAYS_INLINE void sun_lights(tracer *t, const hit *h, const lc_material *m,
+                              unsigned plan, lc_vec3 n, lc_vec3 v, light_sum *sum,
+                              int filter)
+{
+    const lc_scene *s = t->scene;
+    for (size_t i = 0; i < s->nsuns; i++) {
+        const sun_light *L = &s->suns[i];
+        double cosl = v3_dot(n, L->to);
+        if (!(cosl > 0))
+            continue;
+        int rec;
+        radiance f;
+        if (!shadow_ray(t, h, L->to, HUGE_VAL, NULL, LC_RAY_SHADOW, EXPLAIN_SUN(i),
+                        INTERSECT_SKIP_NONE, &rec, filter, &f, 1))
+            continue;
+        radiance lc = r_scale(rad(L->d.color), radiance_cap(L->k));
+        if (filter)
+            lc = r_mul(lc, f);
+        add_light(t, m, plan, n, v, L->to, cosl, lc, sum, rec);
+    }
+}
+
+/* Every light loop at a hit of a scene with glass that shadow rays cross,
+** or with spot or directional lights: apart, so the loops of opaque scenes
+** with point lights and emitters stay as they were (one test of the needs
+** reaches here, the one glass took before). filter is a constant in each
+** of its two copies. */
+ALWAYS_INLINE void lights_all(tracer *t, const hit *h, const lc_material *m,
+                              unsigned plan, lc_vec3 n, lc_vec3 v, uint32_t index,
+                              uint32_t count, int depth, light_sum *sum, int filter)
 {
     if (t->needs & LC_NEED_SHADOW)
-        point_lights(t, h, m, plan, n, v, sum, 1);
+        point_lights(t, h, m, plan, n, v, sum, filter);
+    if (t->needs & LC_NEED_SPOT)
+        spot_lights(t, h, m, plan, n, v, sum, filter);
+    if (t->needs & LC_NEED_SUN)
+        sun_lights(t, h, m, plan, n, v, sum, filter);
     if (t->needs & LC_NEED_EMITTER)
-        emitters(t, h, m, plan, n, v, sum, 1);
+        emitters(t, h, m, plan, n, v, sum, filter);
     if (t->needs & LC_NEED_AREA)
-        area_lights(t, h, m, plan, n, v, index, count, depth, sum, 1);
+        area_lights(t, h, m, plan, n, v, index, count, depth, sum, filter);
 }
+
+/* The needs that take the light loops out of line. */
+#define LIGHTS_APART (LC_NEED_FILTER | LC_NEED_SPOT | LC_NEED_SUN)
 
 #endif

@@ -31,6 +31,7 @@ lc_texture lc_texture_default(lc_texture_kind kind)
     t.kind = kind;
     t.a = (lc_color){1, 1, 1};
     t.b = (lc_color){0, 0, 0};
+    t.c = (lc_color){0, 0, 0};
     t.amount = 0.5;
     t.scale = 1;
     t.axis = v3(kind == LC_TEX_GRADIENT ? 0 : 1, kind == LC_TEX_GRADIENT ? 1 : 0, 0);
@@ -83,9 +84,9 @@ static lc_status check(const lc_textures *s, const lc_texture *t, int *depth, lc
 {
     if ((unsigned)t->kind >= LC_TEX_KINDS)
         return error_fail(err, LC_EARG, "kind", "unknown texture kind %d", (int)t->kind);
-    if (!finite_color(t->a) || !finite_color(t->b))
-        return error_fail(err, LC_EARG, finite_color(t->a) ? "b" : "a",
-                          "colour must be finite");
+    if (!finite_color(t->a) || !finite_color(t->b) || !finite_color(t->c))
+        return error_fail(err, LC_EARG, !finite_color(t->a) ? "a" : !finite_color(t->b) ?
+                          "b" : "c", "colour must be finite");
     const int refs[3] = {t->ta, t->tb, t->tamount};
     static const char *const names[3] = {"a", "b", "amount"};
     *depth = 1;
@@ -362,6 +363,11 @@ static lc_color eval(const lc_textures *s, int i, lc_vec3 p, lc_vec3 q, const do
     }
     case LC_TEX_IMAGE:
         return image_at(t, xs.x, xs.y);
+    case LC_TEX_SKY: {
+        double len = v3_len(x), y = len > 0 ? fmax(-1, fmin(1, x.y / len)) : 0;
+        lc_color hz = slot(s, d->tb, d->b, p, q, uv);
+        return y >= 0 ? blend(hz, slot(s, d->ta, d->a, p, q, uv), y) : blend(hz, d->c, -y);
+    }
     default:                                   /* LC_TEX_MIX */
         k = d->tamount ? luminance(eval(s, d->tamount - 1, p, q, uv)) : d->amount;
         break;
@@ -387,6 +393,18 @@ double textures_step(const lc_textures *s, int i)
     return 1e-3 * s->t[i].d.scale;
 }
 
+int textures_image(const lc_textures *s, int i, const float **px, int *w, int *h)
+{
+    const texture *t = &s->t[i];
+    if (t->d.kind != LC_TEX_IMAGE || t->d.mapping != LC_MAP_UV || t->d.moved ||
+        t->d.scale != 1)
+        return 0;
+    *px = t->px;
+    *w = t->w;
+    *h = t->h;
+    return 1;
+}
+
 int textures_use_uv(const lc_textures *s, int i)
 {
     const lc_texture *d = &s->t[i].d;
@@ -399,12 +417,31 @@ int textures_use_uv(const lc_textures *s, int i)
     return 0;
 }
 
+/* Marks texture i and those within it. */
+static void mark_within(const lc_textures *s, int i, unsigned char *mark)
+{
+    const lc_texture *d = &s->t[i].d;
+    mark[i] = 1;
+    const int refs[3] = {d->ta, d->tb, d->tamount};
+    for (int k = 0; k < 3; k++)
+        if (refs[k] && !mark[refs[k] - 1])
+            mark_within(s, refs[k] - 1, mark);
+}
+
 lc_textures *textures_transformed(const lc_textures *s, double scale, lc_vec3 offset,
-                                  lc_error *err)
+                                  int keep, lc_error *err)
 {
     lc_textures *c = lc_textures_new(err);
     lc_transform move = {{{scale, 0, 0, offset.x}, {0, scale, 0, offset.y},
                           {0, 0, scale, offset.z}}};
+    unsigned char *kept = c && keep ? mem_calloc(s->n, 1) : NULL;
+    if (c && keep && !kept) {
+        lc_textures_free(c);
+        error_fail(err, LC_ENOMEM, NULL, "out of memory copying textures");
+        return NULL;
+    }
+    if (kept)
+        mark_within(s, keep - 1, kept);
     for (size_t i = 0; c && i < s->n; i++) {
         const texture *t = &s->t[i];
         lc_texture d = t->d;
@@ -412,7 +449,7 @@ lc_textures *textures_transformed(const lc_textures *s, double scale, lc_vec3 of
         memset(&img, 0, sizeof img);
         img.width = t->w, img.height = t->h, img.px = t->px;
         d.image = t->px ? &img : NULL;
-        if (d.mapping == LC_MAP_WORLD) {
+        if (d.mapping == LC_MAP_WORLD && !(kept && kept[i])) {
             d.xf = d.moved ? lc_transform_compose(&move, &d.xf) : move;
             d.moved = 1;
         }
@@ -421,5 +458,6 @@ lc_textures *textures_transformed(const lc_textures *s, double scale, lc_vec3 of
             c = NULL;
         }
     }
+    mem_free(kept);
     return c;
 }

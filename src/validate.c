@@ -14,7 +14,7 @@ lc_material lc_material_default(void)
 
 lc_settings lc_settings_default(void)
 {
-    lc_settings s = {{0, 0, 0}, {0, 0, 0}, 3};
+    lc_settings s = {{0, 0, 0}, 0, {0, 0, 0}, 3};
     return s;
 }
 
@@ -110,6 +110,16 @@ static lc_status check_color(lc_color c, double max, const char *field, lc_error
                            i + 1, max, ch[i]);
     }
     return LC_OK;
+}
+
+lc_status validate_coef(double x, const char *field, lc_error *err)
+{
+    return check_coef(x, field, err);
+}
+
+lc_status validate_color(lc_color c, double max, const char *field, lc_error *err)
+{
+    return check_color(c, max, field, err);
 }
 
 lc_status lc_material_check(const lc_material *m, lc_error *err)
@@ -223,6 +233,7 @@ lc_render_options lc_render_options_default(void)
     o.cosine = 1;
     o.cutoff = 1.0 / 255;   /* POV-Ray's adc_bailout: below one step of 8-bit output */
     o.shadows = o.reflections = o.specular = 1;
+    o.roulette = o.nee = 1;
     return o;
 }
 
@@ -264,6 +275,15 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
     if (o->threads < 0 || o->threads > LC_MAX_THREADS)
         return error_fail(err, LC_EARG, "threads", "must be in [0, %d], got %d", LC_MAX_THREADS,
                        o->threads);
+    if (o->indirect < 0 || o->indirect > LC_MAX_INDIRECT)
+        return error_fail(err, LC_EARG, "indirect", "must be in [0, %d], got %d",
+                          LC_MAX_INDIRECT, o->indirect);
+    if (o->ao_samples < 0 || o->ao_samples > LC_MAX_AO_SAMPLES)
+        return error_fail(err, LC_EARG, "ao", "samples must be in [0, %d], got %d",
+                          LC_MAX_AO_SAMPLES, o->ao_samples);
+    if (o->ao_samples > 0 && !(o->ao_distance > 0 && o->ao_distance <= LC_MAX_COORD))
+        return error_fail(err, LC_EARG, "ao", "distance must be in (0, %g], got %g",
+                          LC_MAX_COORD, o->ao_distance);
     const int *r = o->region;
     if ((r[0] | r[1] | r[2] | r[3]) != 0 &&
         !(r[0] >= 0 && r[0] < r[2] && r[2] <= o->width && r[1] >= 0 && r[1] < r[3] &&

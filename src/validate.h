@@ -19,6 +19,10 @@ lc_status validate_length(double x, const char *field, lc_error *err);
 lc_status validate_edge(lc_vec3 v, const char *field, lc_error *err);
 /* A direction: finite, of a length that squares in double. */
 lc_status validate_nonzero(lc_vec3 v, const char *field, lc_error *err);
+/* A coefficient: finite and >= 0. */
+lc_status validate_coef(double x, const char *field, lc_error *err);
+/* A colour: each component finite and in [0, max]. */
+lc_status validate_color(lc_color c, double max, const char *field, lc_error *err);
 lc_status validate_not_parallel(lc_vec3 a, lc_vec3 b, const char *fa, const char *fb,
                                 lc_error *err);
 

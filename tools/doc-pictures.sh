@@ -35,4 +35,7 @@ still 08_moving 107
 still 09_soft_glossy_lens 90
 still 10_glass 100
 still 11_csg 107
+still 12_textures 100
+still 13_obj_mtl 100
+still 14_shapes 100
 ls -l "$out"

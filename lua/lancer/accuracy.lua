@@ -23,12 +23,14 @@ local KNOBS = {
   cone_samples  = {min = 1, max = 4096, ref = "budget"},
   light_samples = {min = 0, max = 4096, ref = "budget"},
   max_depth     = {min = 0, max = 1000000, ref = "depth"},
+  indirect      = {min = 0, max = 1024, ref = "depth"},
 }
-local ORDER = {"samples", "cone_samples", "light_samples", "max_depth"}
+local ORDER = {"samples", "cone_samples", "light_samples", "max_depth", "indirect"}
 local ALIASES = {depth = "max_depth"}
 -- Ray kinds in a fixed column order; any other kind the core reports is
 -- appended in name order.
-local KINDS = {"camera", "shadow", "reflection", "refraction", "glossy", "light", "cut"}
+local KINDS = {"camera", "shadow", "reflection", "refraction", "glossy", "light", "indirect",
+               "ao", "cut"}
 
 local function say(fmt, ...) io.stderr:write("accuracy: ", fmt:format(...), "\n") end
 
@@ -136,7 +138,7 @@ local function reference_plan(knob)
     -- covers sweeps that go past 64. Both halves use that depth and differ
     -- in their seeds only.
     local d = math.min(k.max, math.max(DEPTH_REF, 4 * top))
-    return d, d, ("max_depth=%d, 2 seeds averaged"):format(d)
+    return d, d, ("%s=%d, 2 seeds averaged"):format(knob.name, d)
   end
   local total = math.min(k.max, REF_FACTOR * top)
   local half = math.max(1, total // 2)

@@ -2,9 +2,10 @@
 -- `lancer --stats` prints after each render (lancer.ledger(stats) in a script).
 local M = {}
 
-local KINDS = {"camera", "shadow", "reflection", "refraction", "glossy", "light", "cut"}
-local EFFECTS = {"shadow", "emitter", "area", "specular", "reflect", "refract", "filter",
-                 "glossy", "ambient", "lens"}
+local KINDS = {"camera", "shadow", "reflection", "refraction", "glossy", "light", "indirect",
+               "ao", "cut"}
+local EFFECTS = {"shadow", "spot", "sun", "emitter", "area", "specular", "reflect",
+                 "refract", "filter", "glossy", "ambient", "lens", "sky", "indirect", "ao"}
 
 -- The fields format reads: integers, numbers, tables (nil allowed for the
 -- optional ones, which older statistics lack).

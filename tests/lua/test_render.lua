@@ -243,8 +243,8 @@ s:render{width = 4, height = 4}
 print("went on")
 ]]):format("arg[1] == 'black' and lancer.material{color = {0, 0, 0}} or nil"))
   local want = {
-    dark = "lancer: warning: the scene has no light (no point light, no emissive " ..
-           "shape, no ambient light): only the background shows\n",
+    dark = "lancer: warning: the scene has no light (no point, spot or directional " ..
+           "light, no emissive shape, no ambient light): only the background shows\n",
     black = "lancer: warning: every pixel is black: the lights reach nothing the " ..
             "camera sees (check the camera, the lights' positions and intensities, " ..
             "and the colours)\n",
