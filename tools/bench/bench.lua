@@ -73,6 +73,15 @@ local CASES = {
    script = "b3.lua", args = {"707"}, quick = true},
   {key = "b3-4m", label = "B3 4M triangles", scene = scenes.b3, size = 1414, samples = 1,
    script = "b3.lua", args = {"1414"}, tachyon_full = true},
+  -- the scene classes (scenes.lua's city, clusters, mixed, instances)
+  {key = "city", label = "city 19.6k boxes", scene = scenes.city, size = 160, samples = 1,
+   script = "city.lua", args = {"160"}, quick = true, class = true},
+  {key = "clusters", label = "clusters 100k spheres", scene = scenes.clusters,
+   size = 100000, samples = 1, script = "clusters.lua", args = {"100000"}, class = true},
+  {key = "mixed", label = "mixed 50k primitives", scene = scenes.mixed, size = 50000,
+   samples = 1, script = "mixed.lua", args = {"50000"}, class = true},
+  {key = "instances", label = "instances 400 x 1k triangles", scene = scenes.instances,
+   size = 20, samples = 1, script = "instances.lua", args = {"20"}, class = true},
   -- scenes/csg.lua; Tachyon has no CSG
   {key = "csg", label = "CSG", scene = scenes.csg, samples = 1, path = "scenes/csg.lua",
    args = {"1"}, quick = true, povray_only = true},
@@ -251,7 +260,8 @@ for key in pairs(ONLY or {}) do
   known = known or key == "robust" or key == "parity" or key == "knobs" or
           key == "adaptive" or key == "embree"
   if not known then
-    fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m csg "
+    fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m city "
+         .. "clusters mixed instances csg "
          .. "robust parity knobs adaptive embree)", key)
   end
 end

@@ -5,8 +5,9 @@
 -- scales ambient and diffuse only, as the spec's shading does),
 -- max_trace_level = depth + 1, no adaptive depth cut-off (adc_bailout 0),
 -- linear output (assumed_gamma 1.0 in the file, File_Gamma=1.0 on the
--- command line). No #declare: every object carries its own texture, so the
--- file is exactly what the scene says, object by object.
+-- command line). No #declare but the instanced mesh's: every object carries
+-- its own texture, so the file is exactly what the scene says, object by
+-- object.
 local P = {}
 
 local fmt = string.format
@@ -96,6 +97,50 @@ local function write_csg(f, node, tex, indent)
   end
 end
 
+-- The scene classes' open cylinders, quads (two triangles, as Tachyon
+-- gets them), triangles, and instances: the one mesh2 declared once (the
+-- only #declare, as POV-Ray shares a declared mesh's data among its
+-- copies), each copy an object placed by its matrix.
+local function write_classes(f, scene, tex)
+  for _, c in ipairs(scene.cylinders or {}) do
+    f:write(fmt("cylinder { %s, %s, %s open %s }\n", vec(c.base), vec(c.top),
+                num(c.radius), tex[c.material]))
+  end
+  for _, q in ipairs(scene.quads or {}) do
+    local p, u, v = q.corner, q.u, q.v
+    local pu = {p[1] + u[1], p[2] + u[2], p[3] + u[3]}
+    local puv = {pu[1] + v[1], pu[2] + v[2], pu[3] + v[3]}
+    local pv = {p[1] + v[1], p[2] + v[2], p[3] + v[3]}
+    f:write(fmt("triangle { %s, %s, %s %s }\ntriangle { %s, %s, %s %s }\n", vec(p),
+                vec(pu), vec(puv), tex[q.material], vec(p), vec(puv), vec(pv),
+                tex[q.material]))
+  end
+  for _, t in ipairs(scene.triangles or {}) do
+    f:write(fmt("triangle { %s, %s, %s %s }\n", vec(t.a), vec(t.b), vec(t.c),
+                tex[t.material]))
+  end
+  local inst = scene.instances
+  if not inst then return end
+  local v, faces = inst.vertices, inst.faces
+  f:write(fmt("#declare Placed = mesh2 {\n vertex_vectors { %d,\n", #v // 3))
+  for i = 1, #v, 3 do
+    f:write(fmt(" <%s, %s, %s>,\n", num(v[i]), num(v[i + 1]), num(v[i + 2])))
+  end
+  f:write(fmt(" }\n face_indices { %d,\n", #faces // 3))
+  for i = 1, #faces, 3 do
+    f:write(fmt(" <%d, %d, %d>,\n", faces[i] - 1, faces[i + 1] - 1, faces[i + 2] - 1))
+  end
+  f:write(" }\n}\n")
+  -- POV-Ray's matrix maps the row (x, y, z, 1): its entries are M's columns.
+  for _, m in ipairs(inst.placements) do
+    f:write(fmt("object { Placed %s matrix <%s, %s, %s, %s, %s, %s, %s, %s, %s, " ..
+                "%s, %s, %s> }\n", tex[inst.material],
+                num(m[1][1]), num(m[2][1]), num(m[3][1]), num(m[1][2]), num(m[2][2]),
+                num(m[3][2]), num(m[1][3]), num(m[2][3]), num(m[3][3]), num(m[1][4]),
+                num(m[2][4]), num(m[3][4])))
+  end
+end
+
 -- Writes scene to path (through path .. ".tmp", renamed at the end, so a
 -- file that exists is complete). grid is scenes.grid_vertex.
 function P.write(scene, path, grid)
@@ -119,6 +164,7 @@ function P.write(scene, path, grid)
   end
   scene.spheres(function(x, y, z, r, m) f:write(fmt(sfmt, x, y, z, r, tex[m])) end)
   if scene.mesh then write_mesh(f, scene, grid) end
+  write_classes(f, scene, tex)
   for _, tree in ipairs(scene.csg or {}) do write_csg(f, tree, tex, "") end
   assert(f:close())
   assert(os.rename(tmp, path))
