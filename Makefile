@@ -168,7 +168,8 @@ $(BIN): $(HOST_OBJ) $(BUILD)/obj/lua_embedded.o $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 
 $(BUILD)/tests/%: tests/c/%.c $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXE_LDFLAGS) -Isrc -o $@ $< $(LIB) $(CMOCKA_LIBS) $(PNG_LIBS) \
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXR_CFLAGS) $(EXE_LDFLAGS) -Isrc -o $@ $< $(LIB) $(CMOCKA_LIBS) \
+	    $(PNG_LIBS) \
 	    $(EXR_LIBS) $(STB_LIBS) -lm -pthread
 
 # What a program linking the core needs; only a static library is built, so

@@ -157,20 +157,54 @@ static int channel_slot(const char *name)
 
 /* ---- Writing ------------------------------------------------------------------ */
 
+/* The bytes of one pixel's samples, interleaved. */
+static int pixel_bytes(const raster_format *f)
+{
+    int n = 0;
+    for (int k = 0; f->named && k < f->channels; k++)
+        n += f->named[k].bytes;
+    return f->named ? n : f->channels * f->bytes;
+}
+
+/* Where the channel `name` sits in a pixel (bytes from its start), and its size. */
+static int channel_place(const raster_format *f, const char *name, int *bytes)
+{
+    if (!f->named) {
+        *bytes = f->bytes;
+        return channel_slot(name) * f->bytes;
+    }
+    int at = 0;
+    for (int k = 0; k < f->channels; k++) {
+        if (strcmp(f->named[k].name, name) == 0) {
+            *bytes = f->named[k].bytes;
+            return at;
+        }
+        at += f->named[k].bytes;
+    }
+    *bytes = 0;
+    return -1;                                     /* not reached: the names are ours */
+}
+
 /* Points every channel of the pipeline at its samples in `band`, rows of
 ** `stride` bytes starting at column x0. */
 static void encode_channels(exr_encode_pipeline_t *enc, const raster_format *f,
                             const unsigned char *band, size_t stride, int x0)
 {
+    int px = pixel_bytes(f);
     for (int c = 0; c < enc->channel_count; c++) {
         exr_coding_channel_info_t *ch = &enc->channels[c];
-        int k = channel_slot(ch->channel_name);
-        ch->user_bytes_per_element = (int16_t)f->bytes;
+        int bytes, at = channel_place(f, ch->channel_name, &bytes);
+        ch->user_bytes_per_element = (int16_t)bytes;
         ch->user_data_type = ch->data_type;
-        ch->user_pixel_stride = f->channels * f->bytes;
+        ch->user_pixel_stride = px;
         ch->user_line_stride = (int32_t)stride;
-        ch->encode_from_ptr = band + (size_t)x0 * f->channels * f->bytes + (size_t)k * f->bytes;
+        ch->encode_from_ptr = band + (size_t)x0 * px + (size_t)at;
     }
+}
+
+static int by_name(const void *a, const void *b)
+{
+    return strcmp(((const raster_channel *)a)->name, ((const raster_channel *)b)->name);
 }
 
 /* Bug: OpenEXRCore 3.1.5 keeps ZIP output that is exactly as long as its
@@ -253,14 +287,28 @@ static lc_status write_exr(int fd, const raster_format *f, raster_row_fn fill,
     if (rv == EXR_ERR_SUCCESS && f->tile)
         rv = exr_set_tile_descriptor(ctx, part, (uint32_t)f->tile, (uint32_t)f->tile,
                                      EXR_TILE_ONE_LEVEL, EXR_TILE_ROUND_DOWN);
-    for (int k = f->channels == 4 ? 0 : 1; k < 4 && rv == EXR_ERR_SUCCESS; k++)
+    if (f->named) {                /* the file lists them by name: added in that order */
+        raster_channel *list = mem_alloc((size_t)f->channels * sizeof *list);
+        if (!list)
+            rv = EXR_ERR_OUT_OF_MEMORY;
+        else
+            memcpy(list, f->named, (size_t)f->channels * sizeof *list);
+        if (list)
+            qsort(list, (size_t)f->channels, sizeof *list, by_name);
+        for (int k = 0; list && k < f->channels && rv == EXR_ERR_SUCCESS; k++)
+            rv = exr_add_channel(ctx, part, list[k].name, list[k].bytes == 2 ?
+                                 EXR_PIXEL_HALF : EXR_PIXEL_FLOAT,
+                                 EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);
+        mem_free(list);
+    }
+    for (int k = f->channels == 4 ? 0 : 1; !f->named && k < 4 && rv == EXR_ERR_SUCCESS; k++)
         rv = exr_add_channel(ctx, part, sorted[k], type, EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_write_header(ctx);
     int lines = f->tile;
     if (rv == EXR_ERR_SUCCESS && !f->tile)
         rv = exr_get_scanlines_per_chunk(ctx, part, &lines);
-    size_t stride = (size_t)f->width * f->channels * f->bytes;
+    size_t stride = (size_t)f->width * pixel_bytes(f);
     unsigned char *band = rv == EXR_ERR_SUCCESS ? mem_alloc(stride * (size_t)lines) : NULL;
     if (rv == EXR_ERR_SUCCESS && !band)
         rv = EXR_ERR_OUT_OF_MEMORY;

@@ -31,6 +31,9 @@ lc_image *lc_image_new(int width, int height, lc_error *err)
     img->height = height;
     img->px = px;
     img->alpha = NULL;
+    img->ranks = NULL;
+    for (int k = 0; k < LC_AOVS; k++)
+        img->aov[k] = NULL;
     img->win.x0 = img->win.y0 = 0;
     img->win.frame_width = width;
     img->win.frame_height = height;
@@ -42,8 +45,11 @@ void lc_image_free(lc_image *img)
 {
     if (!img)
         return;
+    for (int k = 0; k < LC_AOVS; k++)
+        lc_image_free(img->aov[k]);
     mem_free(img->px);
     mem_free(img->alpha);
+    mem_free(img->ranks);
     mem_free(img);
 }
 

@@ -9,6 +9,9 @@ struct lc_image {
     float *px;            /* linear RGB, row-major from the top-left */
     float *alpha;         /* NULL, or one per pixel (coverage; colours premultiplied) */
     lc_window win;        /* where it lies in its frame: (0, 0, width, height) if whole */
+    lc_image *aov[LC_AOVS];   /* a render's AOVs (aov.c), owned; NULL: not made */
+    float *ranks;         /* an object or material AOV: per pixel LC_AOV_RANKS pairs
+                          ** (id, share of samples), most samples first; id 0: none */
 };
 
 /* Clamped to [0, 1] (NaN reads as 0), encoded, rounded to nearest 16 bits. */

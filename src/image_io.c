@@ -1,6 +1,7 @@
 /* image_io.c: saving images in the format their file name asks for, with the
 ** options of each format. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 #include <strings.h>
 #include "error.h"
@@ -15,6 +16,7 @@ lc_save_options lc_save_options_default(void)
     o.depth = 8;
     o.exr_pixel = LC_EXR_HALF;
     o.exr_compression = LC_EXR_ZIP;
+    o.aovs = 1;
     return o;
 }
 
@@ -112,6 +114,98 @@ static lc_status check_options(const lc_image *img, const lc_save_options *o,
     return LC_OK;
 }
 
+/* ---- EXR with AOVs as layers ---------------------------------------------------- */
+
+#define LAYERED_MAX 64     /* R, G, B, A, Z, 3 per AOV, 8 per id AOV's ranks */
+
+/* Where a layered file's channel takes its values: every `stride`th float
+** from base; toned ones are the beauty's colours. */
+typedef struct {
+    const float *base;
+    int stride, toned;
+} layer_source;
+
+typedef struct {
+    const lc_image *img;
+    const raster_format *f;
+    const layer_source *src;
+    double scale;
+    lc_tone tone;
+} layered;
+
+static void layered_row(const void *ud, int y, unsigned char *out)
+{
+    const layered *l = ud;
+    const raster_format *f = l->f;
+    size_t row = (size_t)y * l->img->width;
+    for (int x = 0; x < l->img->width; x++)
+        for (int k = 0; k < f->channels; k++) {
+            const layer_source *s = &l->src[k];
+            float v = s->base[(row + x) * s->stride];
+            if (s->toned)
+                v = (float)lc_tone_curve(v * l->scale, l->tone);
+            if (f->named[k].bytes == 2) {
+                uint16_t h = raster_half(v);
+                memcpy(out, &h, 2);
+            } else {
+                memcpy(out, &v, 4);
+            }
+            out += f->named[k].bytes;
+        }
+}
+
+static void add_channel(raster_channel *names, layer_source *src, int *n, const char *name,
+                        int bytes, const float *base, int stride, int toned)
+{
+    snprintf(names[*n].name, sizeof names[*n].name, "%s", name);
+    names[*n].bytes = bytes;
+    src[*n].base = base;
+    src[*n].stride = stride;
+    src[*n].toned = toned;
+    ++*n;
+}
+
+/* The beauty as R, G, B [, A], depth as Z, every other AOV as the layer of
+** its name (`normal.R` ...); an id AOV's ranks as Cryptomatte lays them out,
+** `object00.R` id and `object00.G` share of rank 0, B and A rank 1, then
+** `object01` for ranks 2 and 3. Depth, position and ids in float. */
+static lc_status save_layered(const lc_image *img, const char *path,
+                              const lc_save_options *o, raster_format *f, lc_error *err)
+{
+    static const char rgb_names[4][2] = {"R", "G", "B", "A"};
+    raster_channel names[LAYERED_MAX];
+    layer_source src[LAYERED_MAX];
+    int n = 0, bytes = f->bytes, toned = o->exposure != 0 || o->tone != LC_TONE_CLAMP;
+    for (int k = 0; k < 3; k++)
+        add_channel(names, src, &n, rgb_names[k], bytes, img->px + k, 3, toned);
+    if (o->alpha)
+        add_channel(names, src, &n, "A", bytes, img->alpha, 1, 0);
+    for (int a = 0; a < LC_AOVS; a++) {
+        const lc_image *l = img->aov[a];
+        if (!l)
+            continue;
+        const char *name = lc_aov_name((lc_aov)a);
+        int exact = a == LC_AOV_POSITION || a == LC_AOV_OBJECT || a == LC_AOV_MATERIAL;
+        if (a == LC_AOV_DEPTH) {
+            add_channel(names, src, &n, "Z", 4, l->px, 3, 0);
+            continue;
+        }
+        char ch[40];
+        for (int k = 0; k < 3; k++) {
+            snprintf(ch, sizeof ch, "%s.%s", name, rgb_names[k]);
+            add_channel(names, src, &n, ch, exact ? 4 : bytes, l->px + k, 3, 0);
+        }
+        for (int r = 0; l->ranks && r < 2 * LC_AOV_RANKS; r++) {
+            snprintf(ch, sizeof ch, "%s%02d.%s", name, r / 4, rgb_names[r % 4]);
+            add_channel(names, src, &n, ch, 4, l->ranks + r, 2 * LC_AOV_RANKS, 0);
+        }
+    }
+    f->channels = n;
+    f->named = names;
+    layered l = {img, f, src, exp2(o->exposure), o->tone};
+    return exr_write_raster(f, layered_row, &l, path, err);
+}
+
 lc_status lc_image_save_with(const lc_image *img, const char *path,
                              const lc_save_options *o, lc_error *err)
 {
@@ -136,6 +230,8 @@ lc_status lc_image_save_with(const lc_image *img, const char *path,
         f.compression = o->exr_compression;
         f.tile = o->exr_tile;
     }
+    if (kind == RASTER_EXR && o->aovs && lc_image_aovs(img))
+        return save_layered(img, path, o, &f, err);
     source s = {img, &f, kind == RASTER_PNG && o->alpha,
                 o->exposure != 0 || o->tone != LC_TONE_CLAMP, exp2(o->exposure), o->tone};
     return kind == RASTER_PNG ? png_write_raster(&f, image_row, &s, path, err)

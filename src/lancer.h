@@ -66,11 +66,15 @@ typedef enum { LC_SHADOW_FILTERED, LC_SHADOW_OPAQUE } lc_shadow_mode;
 
 /* What a texture may stand for in a material (see Textures below): the
 ** colour, a coefficient (its luminance, clamped to [0, 1]), the emission,
-** or the height whose slope bends the shading normal. */
+** the height whose slope bends the shading normal, or a tangent-space
+** normal map (on mesh faces with uvs). */
 typedef enum {
     LC_SLOT_COLOR, LC_SLOT_KD, LC_SLOT_KS, LC_SLOT_KR, LC_SLOT_KT, LC_SLOT_EMISSION,
-    LC_SLOT_BUMP, LC_SLOTS
+    LC_SLOT_BUMP, LC_SLOT_NORMAL, LC_SLOTS
 } lc_slot;
+
+/* The material field a slot stands for: "color", "kd", ..., "bump", "normal_map". */
+const char *lc_slot_name(lc_slot slot);
 
 typedef struct {
     lc_color  color;     /* C: absorption, every component in [0, 1] */
@@ -99,6 +103,8 @@ typedef struct {
                             ** own value. Shadow rays and light sampling see the
                             ** constant kt and emission. */
     double    bump;         /* the bump texture's height scale, in [-1e6, 1e6] */
+    double    normal_scale; /* the normal map's strength: its tangent components
+                            ** times this, in [0, 1e6] (1: as the map says) */
 } lc_material;
 
 #define LC_MAX_CONE_SAMPLES 4096
@@ -208,6 +214,7 @@ typedef struct {
     int      illum;            /* illum, -1 when absent */
     char     map_kd[LC_MTL_PATH];   /* map_Kd's file, beside the .mtl ("" none) */
     char     map_bump[LC_MTL_PATH]; /* map_Bump or bump ("" none) */
+    char     map_norm[LC_MTL_PATH]; /* norm: a tangent-space normal map ("" none) */
     double   bump_mult;        /* its -bm option (1) */
 } lc_mtl;
 
@@ -561,6 +568,34 @@ void lc_interrupt(void);
 ** independent uniform numbers (the baseline stratification is measured by). */
 typedef enum { LC_SAMPLER_SOBOL, LC_SAMPLER_JITTER, LC_SAMPLER_RANDOM } lc_sampler;
 
+/* AOVs ("arbitrary output variables"): images a render returns beside its
+** beauty when asked (lc_render_options.aovs, bit 1 << LC_AOV_*), each
+** defined in docs/manual.md, "AOVs". Geometry is of the surface each camera
+** sample meets first: depth and position of the pixel's nearest sample (not
+** anti-aliased; depth is along the camera's axis, +infinity where no sample
+** met anything); normal (the world-space shading normal, turned toward the
+** camera) and albedo (the material's colour) the mean over all samples, 0
+** for those that met nothing; object and material 1 + the object's id
+** (what lc_scene_add_* returned) or 1 + its material's index, seen by most
+** samples (0: the background), with the share of samples each covers
+** (lc_image_matte). The light-path AOVs split the
+** beauty by the first bounce of the camera's path, and sum to it: direct
+** (lights, highlights and ambient light at the first hit), reflection and
+** refraction (all a mirror or glossy reflection, or a refraction, brings
+** back from there), indirect (all diffuse and highlight bounces bring back,
+** with render option indirect > 0) and emission (the first hit's own
+** emission, and the background a camera ray sees). */
+typedef enum {
+    LC_AOV_DEPTH, LC_AOV_NORMAL, LC_AOV_ALBEDO, LC_AOV_POSITION, LC_AOV_OBJECT,
+    LC_AOV_MATERIAL, LC_AOV_DIRECT, LC_AOV_REFLECTION, LC_AOV_REFRACTION,
+    LC_AOV_INDIRECT, LC_AOV_EMISSION, LC_AOVS
+} lc_aov;
+
+#define LC_AOV_ALL   ((1u << LC_AOVS) - 1)
+#define LC_AOV_RANKS 4     /* ids an object or material AOV keeps per pixel */
+
+const char *lc_aov_name(lc_aov a);     /* "depth", "normal", ...; NULL past the last */
+
 typedef struct {
     int      width, height;  /* pixels, each in [1, LC_MAX_SIDE] */
     int      samples;        /* camera rays per pixel, >= 1; 1 = pixel centre (with
@@ -610,6 +645,9 @@ typedef struct {
                              ** the width x height frame, each exactly as in the whole
                              ** frame; the image is the region's size and knows where
                              ** it lies (lc_image_window). All 0: the whole frame */
+    unsigned aovs;           /* bits 1 << LC_AOV_*: images rendered beside the beauty
+                             ** (lc_image_aov); 0, the default, renders none and
+                             ** costs nothing. Not with noise > 0 */
 } lc_render_options;
 
 #define LC_MAX_SAMPLES (1 << 20)      /* camera samples per pixel */
@@ -649,6 +687,7 @@ typedef struct {
     char     why[LC_NEEDS][160]; /* for each effect, why it is on or off */
     char     warning[160];       /* empty, or why the picture is likely not what was
                                  ** meant (no light at all; every pixel black) */
+    unsigned aovs;               /* the AOVs computed: bits 1 << LC_AOV_* */
 } lc_stats;
 
 lc_image *lc_scene_render(lc_scene *s, const lc_render_options *o, lc_stats *st,
@@ -806,6 +845,11 @@ typedef struct {
     double      exposure;            /* colours times 2^exposure before the tone curve,
                                      ** in [-LC_MAX_EXPOSURE, LC_MAX_EXPOSURE]; 0 */
     lc_tone     tone;                /* LC_TONE_CLAMP (default) or LC_TONE_FILMIC */
+    int         aovs;                /* EXR: 1 (default) writes the image's AOVs as
+                                     ** layers of the one file (docs/manual.md, "AOVs":
+                                     ** `Z`, then `normal.R` ...; depth, position and
+                                     ** ids as float, the rest as exr_pixel, none of
+                                     ** them toned); 0 the beauty alone. PNG: never */
 } lc_save_options;
 
 #define LC_MAX_EXPOSURE 64
@@ -829,6 +873,19 @@ lc_status lc_image_save_with(const lc_image *img, const char *path,
 ** truncated files, deep or unsupported parts and sizes past LC_MAX_SIDE or
 ** LC_MAX_PIXELS are refused, naming the file. */
 lc_image *lc_image_load_exr(const char *path, lc_error *err);
+
+/* An AOV a render made beside this image (see lc_aov): a new image, the
+** caller's to free, of the image's size and window; NULL, saying so, when
+** the render was not asked for it. Depth, object and material are grey (the
+** same value in r, g and b); normal and position hold x, y, z in r, g, b. */
+lc_image *lc_image_aov(const lc_image *img, lc_aov a, lc_error *err);
+unsigned  lc_image_aovs(const lc_image *img);        /* bits 1 << LC_AOV_* it holds */
+/* The coverage matte of `id` (a value of an object or material AOV, >= 1):
+** each pixel the share of its camera samples whose first hit is that
+** object (or material),
+** exact while the pixel sees at most LC_AOV_RANKS ids (else those it sees
+** least read 0). A new image, the caller's to free. */
+lc_image *lc_image_matte(const lc_image *img, lc_aov a, int id, lc_error *err);
 
 /* Assembles parts of one frame saved by lc_image_save_with (region renders)
 ** into the whole frame at `out`, sample for sample: the same bytes as the

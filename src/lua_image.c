@@ -1,5 +1,6 @@
 /* lua_image.c: images: making, saving, loading, merging parts, pixels, comparing,
 ** measuring error. */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,7 +42,8 @@ static const char *const tone_opts[] = {"clamp", "filmic", NULL};
 static void save_args(lua_State *L, lc_save_options *o)
 {
     static const char *const known[] = {"encoding", "depth", "alpha", "pixel",
-                                        "compression", "tile", "exposure", "tone", NULL};
+                                        "compression", "tile", "exposure", "tone", "aovs",
+                                        NULL};
     check_image(L, 1);
     luaL_checktype(L, 2, LUA_TSTRING);       /* a number is no file name */
     lua_settop(L, 3);
@@ -63,6 +65,7 @@ static void save_args(lua_State *L, lc_save_options *o)
         lf_error(L, 3, "exposure", "must be in [-%d, %d] stops, got %f", LC_MAX_EXPOSURE,
                  LC_MAX_EXPOSURE, o->exposure);
     o->tone = (lc_tone)lf_option(L, 3, "tone", tone_opts, 0);
+    o->aovs = lf_boolean(L, 3, "aovs", 1);
     if (o->exr_tile < 0 || o->exr_tile > LC_MAX_EXR_TILE)
         lf_error(L, 3, "tile", "must be 0 (scanlines) or 1..%d, got %d", LC_MAX_EXR_TILE,
                  o->exr_tile);
@@ -305,6 +308,63 @@ static int w_image(lua_State *L)
     return 1;
 }
 
+/* The AOV named at idx, raising (with the names) for any other value. */
+static lc_aov check_aov(lua_State *L, int idx)
+{
+    const char *why;
+    int k = aov_of_name(L, idx, &why);
+    if (k < 0)
+        luaL_argerror(L, idx, why);
+    return (lc_aov)k;
+}
+
+/* Pushes a new image userdata for what make returns (NULL: raises err). */
+static int push_made(lua_State *L, lc_image *(*make)(const lc_image *, lc_aov, int,
+                                                     lc_error *), lc_aov a, int id)
+{
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    ui->img = NULL;
+    luaL_setmetatable(L, IMAGE);
+    lc_error err;
+    ui->img = make(check_image(L, 1), a, id, &err);
+    if (!ui->img)
+        return luaL_argerror(L, 2, err.msg);
+    lancer_charge(L);
+    return 1;
+}
+
+static lc_image *aov_copy(const lc_image *img, lc_aov a, int id, lc_error *err)
+{
+    (void)id;
+    return lc_image_aov(img, a, err);
+}
+
+/* img:aov(name): a new image of that AOV. */
+static int w_image_aov(lua_State *L)
+{
+    check_image(L, 1);
+    lc_aov a = check_aov(L, 2);
+    return push_made(L, aov_copy, a, 0);
+}
+
+/* img:aovs(): the names of the AOVs the image holds, in lc_aov's order. */
+static int w_image_aovs(lua_State *L)
+{
+    aov_push_names(L, lc_image_aovs(check_image(L, 1)));
+    return 1;
+}
+
+/* img:matte(name, id): the coverage of object (or material) id. */
+static int w_image_matte(lua_State *L)
+{
+    check_image(L, 1);
+    lc_aov a = check_aov(L, 2);
+    lua_Integer id = luaL_checkinteger(L, 3);
+    if (id < 1 || id > INT_MAX)
+        luaL_argerror(L, 3, lua_pushfstring(L, "an id >= 1 expected, got %I", id));
+    return push_made(L, lc_image_matte, a, (int)id);
+}
+
 static int w_image_tostring(lua_State *L)
 {
     ud_image *u = luaL_checkudata(L, 1, IMAGE);
@@ -355,7 +415,8 @@ void image_register(lua_State *L)
     static const luaL_Reg image_methods[] = {
         {"save", w_image_save}, {"pixel", w_image_pixel}, {"diff", w_image_diff},
         {"nonfinite", w_image_nonfinite}, {"set", w_image_set}, {"error", w_image_error},
-        {"add", w_image_add}, {NULL, NULL}};
+        {"add", w_image_add}, {"aov", w_image_aov}, {"aovs", w_image_aovs},
+        {"matte", w_image_matte}, {NULL, NULL}};
     lancer_class(L, IMAGE, image_meta, image_methods);
     lua_pushcfunction(L, w_load_png);
     lua_setfield(L, -2, "load_png");

@@ -337,8 +337,9 @@ static int w_triangle(lua_State *L)
     return 1;
 }
 
-/* Pushes the material a .mtl record maps to, with its textures: a map_Kd
-** for the colour, a bump map (when `textures`). */
+/* Pushes the material a .mtl record maps to, with its textures (when
+** `textures`): a map_Kd for the colour, a bump map, a normal map (norm; its
+** values are data, read as stored). */
 static void push_mtl_material(lua_State *L, const lc_mtl *t, int textures, const char *obj,
                               int warnings)
 {
@@ -350,9 +351,10 @@ static void push_mtl_material(lua_State *L, const lc_mtl *t, int textures, const
         return;
     int mat = lua_gettop(L);
     lua_getiuservalue(L, mat, 1);
-    const char *files[2] = {t->map_kd, t->map_bump}, *slot[2] = {"color", "bump"};
-    const char *kind[2] = {"map_Kd", "bump map"};
-    for (int k = 0; k < 2; k++) {
+    const char *files[3] = {t->map_kd, t->map_bump, t->map_norm};
+    const char *slot[3] = {"color", "bump", "normal_map"};
+    const char *kind[3] = {"map_Kd", "bump map", "normal map"};
+    for (int k = 0; k < 3; k++) {
         if (!files[k][0])
             continue;
         char what[LC_MTL_PATH + 300];
@@ -368,7 +370,8 @@ static void push_mtl_material(lua_State *L, const lc_mtl *t, int textures, const
             continue;
         }
         fclose(fp);
-        texture_push_png(L, files[k], what);     /* there but unreadable: an error */
+        texture_push_png(L, files[k], what,          /* there but unreadable: an error */
+                         k == 2 ? LC_ENCODE_LINEAR : LC_ENCODE_SRGB);
         lua_setfield(L, -2, slot[k]);
     }
     lua_pop(L, 1);

@@ -100,25 +100,26 @@ static int w_material(lua_State *L)
                                         "emission", "absorb", "glossiness",
                                         "cone_samples", "kt", "ior", "fresnel",
                                         "absorption", "transmittance", "shadow", "bump",
-                                        "bump_scale", NULL};
+                                        "bump_scale", "normal_map", "normal_scale", NULL};
     lf_open(L, 1, known);
     lc_material m = lc_material_default();
     /* Fields a texture may stand for: the textures go to the user value,
     ** the rest are read as values. */
-    static const char *const slots[LC_SLOTS] = {"color", "kd", "ks", "kr", "kt",
-                                                "emission", "bump"};
-    int textured[LC_SLOTS] = {0};
+        int textured[LC_SLOTS] = {0};
     lua_newtable(L);
     int tex = lua_gettop(L);
     for (int k = 0; k < LC_SLOTS; k++) {
-        lua_getfield(L, 1, slots[k]);
+        lua_getfield(L, 1, lc_slot_name((lc_slot)k));
         if (texture_check(L, -1)) {
             textured[k] = 1;
-            lua_setfield(L, tex, slots[k]);
+            lua_setfield(L, tex, lc_slot_name((lc_slot)k));
         } else {
             if (k == LC_SLOT_BUMP && !lua_isnil(L, -1))
                 return lf_error(L, 1, "bump", "a texture (its luminance is the height) "
                                 "expected, got %s", luaL_typename(L, -1));
+            if (k == LC_SLOT_NORMAL && !lua_isnil(L, -1))
+                return lf_error(L, 1, "normal_map", "a texture (a tangent-space normal "
+                                "map) expected, got %s", luaL_typename(L, -1));
             lua_pop(L, 1);
         }
     }
@@ -130,6 +131,7 @@ static int w_material(lua_State *L)
     m.alpha = lf_number(L, 1, "alpha", 0, m.alpha);
     if (!textured[LC_SLOT_EMISSION]) m.emission = lf_color(L, 1, "emission", 0, m.emission);
     m.bump = lf_number(L, 1, "bump_scale", 0, textured[LC_SLOT_BUMP] ? 1 : 0);
+    m.normal_scale = lf_number(L, 1, "normal_scale", 0, m.normal_scale);
     m.absorb = (lc_absorb)lf_option(L, 1, "absorb", absorb_opts, (int)m.absorb);
     m.glossiness = lf_number(L, 1, "glossiness", 0, m.glossiness);
     m.cone_samples = lf_integer(L, 1, "cone_samples", 0, m.cone_samples);
@@ -185,6 +187,10 @@ static int w_material_tostring(lua_State *L)
         luaL_addstring(&b, ", ");
         lf_add_vec3(&b, "absorption", m->absorption);
     }
+    if (m->normal_scale != 1) {
+        luaL_addstring(&b, ", normal_scale = ");
+        lf_add_number(&b, m->normal_scale);
+    }
     if (m->shadow != LC_SHADOW_FILTERED) {
         luaL_addstring(&b, ", shadow = '");
         luaL_addstring(&b, shadow_opts[m->shadow]);
@@ -193,15 +199,13 @@ static int w_material_tostring(lua_State *L)
     luaL_addstring(&b, "}");
     luaL_pushresult(&b);
     /* Its textures after it, one per field they stand for. */
-    static const char *const slots[LC_SLOTS] = {"color", "kd", "ks", "kr", "kt",
-                                                "emission", "bump"};
-    for (int k = 0; k < LC_SLOTS; k++) {
+        for (int k = 0; k < LC_SLOTS; k++) {
         lua_settop(L, 2);
         if (lua_getiuservalue(L, 1, 1) == LUA_TTABLE &&
-            lua_getfield(L, 3, slots[k]) != LUA_TNIL) {
+            lua_getfield(L, 3, lc_slot_name((lc_slot)k)) != LUA_TNIL) {
             luaL_tolstring(L, 4, NULL);
-            lua_pushfstring(L, "%s, %s textured by %s", lua_tostring(L, 2), slots[k],
-                            lua_tostring(L, 5));
+            lua_pushfstring(L, "%s, %s textured by %s", lua_tostring(L, 2),
+                            lc_slot_name((lc_slot)k), lua_tostring(L, 5));
             lua_replace(L, 2);
         }
     }
@@ -218,6 +222,7 @@ static int w_material_index(lua_State *L)
         return 1;
     lua_settop(L, 2);
     if (strcmp(k, "bump_scale") == 0) lua_pushnumber(L, m->bump);
+    else if (strcmp(k, "normal_scale") == 0) lua_pushnumber(L, m->normal_scale);
     else if (strcmp(k, "color") == 0) lf_push_color(L, m->color);
     else if (strcmp(k, "emission") == 0) lf_push_color(L, m->emission);
     else if (strcmp(k, "ka") == 0) lua_pushnumber(L, m->ka);

@@ -59,6 +59,8 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
         lua_setfield(L, -2, lc_need_name(1u << k));
     }
     lua_setfield(L, -2, "why");
+    aov_push_names(L, st->aovs);
+    lua_setfield(L, -2, "aovs");
     if (st->warning[0]) {
         lua_pushstring(L, st->warning);
         lua_setfield(L, -2, "warning");
@@ -66,6 +68,64 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
 }
 
 static const char *const sampler_opts[] = {"sobol", "jitter", "random", NULL};
+
+int aov_of_name(lua_State *L, int idx, const char **why)
+{
+    idx = lua_absindex(L, idx);         /* the buffer below pushes */
+    const char *name = lua_type(L, idx) == LUA_TSTRING ? lua_tostring(L, idx) : NULL;
+    for (int k = 0; name && k < LC_AOVS; k++)
+        if (strcmp(name, lc_aov_name((lc_aov)k)) == 0)
+            return k;
+    luaL_Buffer b;
+    luaL_buffinit(L, &b);
+    luaL_addstring(&b, "expected one of ");
+    for (int k = 0; k < LC_AOVS; k++) {
+        lua_pushfstring(L, "%s'%s'", k ? ", " : "", lc_aov_name((lc_aov)k));
+        luaL_addvalue(&b);
+    }
+    if (name)
+        lua_pushfstring(L, ", got '%s'", name);
+    else
+        lua_pushfstring(L, ", got %s", luaL_typename(L, idx));
+    luaL_addvalue(&b);
+    luaL_pushresult(&b);
+    *why = lua_tostring(L, -1);               /* on the stack until the caller raises */
+    return -1;
+}
+
+void aov_push_names(lua_State *L, unsigned bits)
+{
+    lua_newtable(L);
+    int n = 0;
+    for (int k = 0; k < LC_AOVS; k++)
+        if (bits & (1u << k)) {
+            lua_pushstring(L, lc_aov_name((lc_aov)k));
+            lua_rawseti(L, -2, ++n);
+        }
+}
+
+/* aovs = {'depth', 'normal', ...}: the AOVs rendered beside the beauty. */
+static unsigned read_aovs(lua_State *L, int arg)
+{
+    unsigned bits = 0;
+    if (lua_getfield(L, arg, "aovs") != LUA_TNIL) {
+        if (lua_type(L, -1) != LUA_TTABLE)
+            lf_error(L, arg, "aovs", "a list of AOV names expected, got %s",
+                     luaL_typename(L, -1));
+        lua_Integer n = (lua_Integer)lua_rawlen(L, -1);
+        for (lua_Integer i = 1; i <= n; i++) {
+            lua_rawgeti(L, -1, i);
+            const char *why;
+            int k = aov_of_name(L, -1, &why);
+            if (k < 0)
+                lf_error(L, arg, "aovs", "item %d: %s", (int)i, why);
+            bits |= 1u << k;
+            lua_pop(L, 1);
+        }
+    }
+    lua_pop(L, 1);
+    return bits;
+}
 
 void render_read_options(lua_State *L, int arg, lc_render_options *o)
 {
@@ -110,6 +170,7 @@ void render_read_options(lua_State *L, int arg, lc_render_options *o)
     o->indirect = lf_integer(L, arg, "indirect", 0, 0);
     o->roulette = lf_boolean(L, arg, "roulette", 1);
     o->nee = lf_boolean(L, arg, "nee", 1);
+    o->aovs = read_aovs(L, arg);
     /* ao = {samples = N, distance = D}: both required. */
     if (lua_getfield(L, arg, "ao") != LUA_TNIL) {
         static const char *const ao_known[] = {"samples", "distance", NULL};

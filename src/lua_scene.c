@@ -152,11 +152,9 @@ static int material_index(lua_State *L, int sidx, int midx, int arg)
             const ud_material *m = luaL_checkudata(L, midx, MATERIAL);
             lc_material mc = m->m;
             /* Its textures join the scene first (each once), named by index. */
-            static const char *const slots[LC_SLOTS] = {"color", "kd", "ks", "kr", "kt",
-                                                        "emission", "bump"};
-            if (lua_getiuservalue(L, midx, 1) == LUA_TTABLE)
+                        if (lua_getiuservalue(L, midx, 1) == LUA_TTABLE)
                 for (int k = 0; k < LC_SLOTS; k++) {
-                    lua_pushstring(L, slots[k]);
+                    lua_pushstring(L, lc_slot_name((lc_slot)k));
                     if (lua_rawget(L, -2) == LUA_TUSERDATA)
                         mc.texture[k] = 1 + texture_scene_index(L, sidx, -1, arg, 0);
                     lua_pop(L, 1);

@@ -19,6 +19,7 @@ static const char *const kind_names[LC_TEX_KINDS] = {
 static const char *const mapping_opts[] = {"world", "object", "uv", NULL};
 static const char *const wrap_opts[] = {"repeat", "clamp", "mirror", NULL};
 static const char *const filter_opts[] = {"bilinear", "nearest", NULL};
+static const char *const encoding_opts[] = {"srgb", "linear", NULL};
 
 static ud_texture *push_texture(lua_State *L, const lc_texture *t)
 {
@@ -78,15 +79,19 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
         if (has_image) {
             lf_udata(L, 1, "image", IMAGE, 1);
         } else {
+            /* A PNG's colours are sRGB-encoded; a normal or height map's
+            ** values are data, read as stored with encoding = 'linear'. */
+            lc_encoding enc = (lc_encoding)lf_option(L, 1, "encoding", encoding_opts, 0);
             lua_getfield(L, 1, "path");
             if (!lua_isstring(L, -1))
-                return lf_error(L, 1, "image", "an image or a path to a PNG or .hdr file expected");
+                return lf_error(L, 1, "image", "an image or a path to a PNG or .hdr file "
+                                "expected");
             lancer_check_file(L, 1, lua_tostring(L, -1), 0);
             lc_error err;
             const char *path = lua_tostring(L, -1), *dot = strrchr(path, '.');
             int hdr = dot && (strcmp(dot, ".hdr") == 0 || strcmp(dot, ".HDR") == 0);
             lc_image *img = hdr ? lc_image_load_hdr(path, &err)
-                                : lc_image_load_png(path, LC_ENCODE_SRGB, &err);
+                                : lc_image_load_png(path, enc, &err);
             if (!img)
                 return lf_error(L, 1, "path", "%s", err.msg);
             ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);
@@ -170,7 +175,7 @@ static int w_wood(lua_State *L)
 static int w_image_texture(lua_State *L)
 {
     static const char *const known[] = {"image", "path", "wrap", "filter", "scale",
-                                        "mapping", NULL};
+                                        "mapping", "encoding", NULL};
     return make(L, LC_TEX_IMAGE, known);
 }
 /* lancer.sky{zenith, horizon, ground = horizon}: a gradient over directions,
@@ -274,10 +279,10 @@ int texture_scene_index(lua_State *L, int sidx, int tidx, int arg, int depth)
     return index;
 }
 
-void texture_push_png(lua_State *L, const char *path, const char *what)
+void texture_push_png(lua_State *L, const char *path, const char *what, lc_encoding enc)
 {
     lc_error err;
-    lc_image *img = lc_image_load_png(path, LC_ENCODE_SRGB, &err);
+    lc_image *img = lc_image_load_png(path, enc, &err);
     if (!img)
         luaL_error(L, "%s: %s", what, err.msg);
     ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);

@@ -135,8 +135,13 @@ lc_scene *scene_at(lua_State *L, int idx);
                        "cutoff", "shadows", "reflections", "specular", "generic", \
                        "frame", "sampler", "light_samples", "cone_samples", "max_depth", \
                        "noise", "min_samples", "glossy", "alpha", "region", "indirect", \
-                       "roulette", "nee", "ao"
+                       "roulette", "nee", "ao", "aovs"
 void render_read_options(lua_State *L, int arg, lc_render_options *o);
+/* The AOV named by the string at idx (lc_aov), or -1 (with *why set to a
+** sentence listing the names) for any other value. */
+int  aov_of_name(lua_State *L, int idx, const char **why);
+/* Pushes the names of the AOV bits as a list. */
+void aov_push_names(lua_State *L, unsigned bits);
 
 /* lua_hook.c: the host hook (lancer.set_host_hook; the comment there says
 ** what it sees). hook_call calls it for `method`, with `plain` (the method
@@ -167,9 +172,9 @@ int  objects_light_add(lc_scene *s, const ud_light *l, lc_error *err);
 ud_light objects_light_of(const lc_object *o);
 /* A material userdata of m, with no texture (lua_objects.c). */
 void objects_push_material(lua_State *L, const lc_material *m);
-/* An image texture of the PNG at path, sRGB-decoded; raises naming `what`
-** (lua_texture.c). */
-void texture_push_png(lua_State *L, const char *path, const char *what);
+/* An image texture of the PNG at path, decoded as enc says; raises naming
+** `what` (lua_texture.c). */
+void texture_push_png(lua_State *L, const char *path, const char *what, lc_encoding enc);
 /* lua_motion.c: pushes a group of the members at stack index members,
 ** placed by t. */
 void motion_push_group(lua_State *L, const lc_transform *t, int members);

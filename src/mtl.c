@@ -153,9 +153,12 @@ lc_status lc_mtl_load(const char *path, lc_mtl **out, size_t *count, lc_error *e
         else if (strcmp(key, "map_Bump") == 0 || strcmp(key, "bump") == 0 ||
                  strcmp(key, "map_bump") == 0)
             ok = map_of(path, rest, m->map_bump, &m->bump_mult);
+        else if (strcmp(key, "norm") == 0 || strcmp(key, "map_norm") == 0)
+            ok = map_of(path, rest, m->map_norm, NULL);
         if (!ok)
             st = error_fail(err, LC_EARG, NULL, "%s:%zu: '%s' needs %s", path, lineno, key,
-                            strncmp(key, "map", 3) == 0 || strcmp(key, "bump") == 0 ?
+                            strncmp(key, "map", 3) == 0 || strcmp(key, "bump") == 0 ||
+                            strcmp(key, "norm") == 0 ?
                             "a file name" : "finite numbers");
     }
     if (st == LC_OK && ferror(fp))

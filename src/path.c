@@ -257,7 +257,11 @@ static lc_vec3 mirror_direction(tracer *t, const lc_material *m, unsigned plan, 
     return c < 0 ? v3_madd(w, n, -2 * c) : w;
 }
 
-radiance path_radiance(tracer *t, const ray *r0, uint32_t index, uint32_t count, int rec)
+/* One path; with aov (a constant: path_radiance_aov), its light also goes
+** to t->aov by class: at the first hit, emission and direct; after it, the
+** class of the first bounce's lobe (diffuse and highlight: indirect). */
+ALWAYS_INLINE radiance path_loop(tracer *t, const ray *r0, uint32_t index, uint32_t count,
+                                 int rec, int aov)
 {
     const lc_scene *s = t->scene;
     static const media air;
@@ -269,6 +273,7 @@ radiance path_radiance(tracer *t, const ray *r0, uint32_t index, uint32_t count,
     double pdf_prev = 0;        /* ... of this density ... */
     lc_vec3 p_prev = {0, 0, 0}, n_prev = {0, 0, 0};   /* ... from here, ... */
     uint32_t from = INTERSECT_SKIP_NONE;              /* ... off this primitive */
+    int cls = AOV_CAMERA;
     for (;;) {
         hit h;
         if (!intersect_closest(s, &r, HUGE_VAL, &h, &t->counts)) {
@@ -282,6 +287,8 @@ radiance path_radiance(tracer *t, const ray *r0, uint32_t index, uint32_t count,
                 explain_add(t->log, rec, add);
             }
             L = r_add(L, add);
+            if (aov)
+                aov_add(t->aov, cls, add);
             break;
         }
         if (md.n)
@@ -307,6 +314,8 @@ radiance path_radiance(tracer *t, const ray *r0, uint32_t index, uint32_t count,
         }
         if (t->log && rec >= 0)
             explain_hit(t->log, s, rec, &h, n, beta);
+        if (aov && cls == AOV_CAMERA)
+            aov_first_hit(t, &h, m, n);
         radiance own = {0, 0, 0};
         if (plan & PLAN_EMITS) {
             double w = 1;
@@ -324,6 +333,8 @@ radiance path_radiance(tracer *t, const ray *r0, uint32_t index, uint32_t count,
         }
         if (bounces > t->indirect) {
             L = r_add(L, own);
+            if (aov)
+                aov_add(t->aov, cls, own);
             if (t->log && rec >= 0)
                 explain_add(t->log, rec, own);
             break;
@@ -331,8 +342,16 @@ radiance path_radiance(tracer *t, const ray *r0, uint32_t index, uint32_t count,
         bsdf b = bsdf_of(m, plan, n, v);
         if (t->needs & LC_NEED_FILTER)
             t->media = &md;
-        if (t->nee && bsdf_smooth(&b))
-            own = r_add(own, lights_at(t, &h, &b, beta, index, count, depth));
+        if (aov && cls == AOV_CAMERA)
+            aov_add(t->aov, AOV_EMISSION, own);
+        if (t->nee && bsdf_smooth(&b)) {
+            radiance lit = lights_at(t, &h, &b, beta, index, count, depth);
+            if (aov && cls == AOV_CAMERA)
+                aov_add(t->aov, AOV_DIRECT, lit);
+            own = r_add(own, lit);
+        }
+        if (aov && cls != AOV_CAMERA)
+            aov_add(t->aov, cls, own);
         L = r_add(L, own);
         if (t->log && rec >= 0)
             explain_add(t->log, rec, own);
@@ -360,6 +379,8 @@ radiance path_radiance(tracer *t, const ray *r0, uint32_t index, uint32_t count,
                 break;                           /* a highlight sample under the surface */
             beta = r_mul(beta, r_scale(f, v3_dot(n, d) / pdf));
             smooth = 1;
+            if (aov && cls == AOV_CAMERA)
+                cls = AOV_INDIRECT;
             pdf_prev = pdf;
             p_prev = h.p;
             n_prev = n;
@@ -398,6 +419,8 @@ radiance path_radiance(tracer *t, const ray *r0, uint32_t index, uint32_t count,
             }
             smooth = 0;
             specular_depth++;
+            if (aov && cls == AOV_CAMERA)
+                cls = kind == LC_RAY_REFRACTION ? AOV_REFRACTION : AOV_REFLECTION;
         }
         depth++;
         /* Russian roulette: a path of little weight goes on with probability
@@ -417,4 +440,14 @@ radiance path_radiance(tracer *t, const ray *r0, uint32_t index, uint32_t count,
             rec = explain_ray(t->log, rec, kind, &r);
     }
     return L;
+}
+
+radiance path_radiance(tracer *t, const ray *r0, uint32_t index, uint32_t count, int rec)
+{
+    return path_loop(t, r0, index, count, rec, 0);
+}
+
+radiance path_radiance_aov(tracer *t, const ray *r0, uint32_t index, uint32_t count)
+{
+    return path_loop(t, r0, index, count, -1, 1);
 }

@@ -5,6 +5,8 @@
 #include "scene.h"
 #include "validate.h"
 
+static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive);
+
 #define POLL 4096     /* rays between looks at lc_interrupt() */
 
 /* The caller's ray as the tracer takes it: a unit direction from the start
@@ -51,6 +53,16 @@ static lc_status begin(lc_scene *s, const lc_ray *rays, size_t n, sig_atomic_t s
     lc_status st = compile_geometry(s, seen, err);
     pthread_mutex_unlock(&s->lock);
     return st;
+}
+
+int scene_object_id(const lc_scene *s, const hit *h)
+{
+    unsigned pk = PRIM_KIND(h->shape);
+    int kind;
+    long primitive;
+    if (pk == PRIM_CSG_FACE || pk == PRIM_CSG_CUT)
+        return s->csgs[PRIM_INDEX(h->shape)]->id;
+    return object_of(s, h, &kind, &primitive);
 }
 
 static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive)

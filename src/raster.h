@@ -17,7 +17,13 @@ typedef struct {
     lc_encoding enc;         /* PNG: the transfer curve it says */
     lc_exr_compression compression;  /* EXR */
     int tile;                /* EXR: 0 scanlines, else the tiles' side */
+    const struct raster_channel *named;   /* EXR: NULL, or `channels` of these (layers),
+                                          ** interleaved in this order, each of its
+                                          ** own bytes; `bytes` is then unused */
 } raster_format;
+
+/* One channel of a layered EXR: its name, and 2 (half) or 4 (float). */
+typedef struct raster_channel { char name[40]; int bytes; } raster_channel;
 
 /* The format a file name's extension names (.png, .exr, any case); -1, with
 ** err saying why, for any other. */

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "adaptive.h"
+#include "aov.h"
 #include "camera.h"
 #include "error.h"
 #include "image.h"
@@ -65,6 +66,7 @@ typedef struct {
                                 ** traced pixel, across passes */
     double          base, share;   /* progress: this pass's start and part of all */
     int             random;     /* some dimension is sampled: pixels need their keys */
+    unsigned        aovs;       /* the AOVs asked for (bits 1 << LC_AOV_*) */
     sig_atomic_t    interrupts_seen;   /* lc_interrupt()'s count when the render began */
 } job;
 
@@ -72,6 +74,7 @@ typedef struct {
     job      *j;
     tracer    t;
     pthread_t thread;
+    aov_count *objects, *materials;   /* AOVs: a pixel's ids, room for each sample */
 } worker;
 
 /* A tracer for this render: the switches and counts the compile decided. */
@@ -92,6 +95,8 @@ static void tracer_init(tracer *t, lc_scene *s, const lc_render_options *o)
     t->nee = o->nee;
     t->ao_samples = o->ao_samples;
     t->ao_distance = o->ao_distance;
+    if (o->aovs)
+        t->needs |= TRACE_AOV;
 }
 
 /* Camera sample s of n of pixel (x, y): the pixel centre when the pixel
@@ -140,8 +145,34 @@ ALWAYS_INLINE void put(job *j, int x, int y, const double sum[3], uint32_t n, ui
         lc_image_set_alpha(j->img, x - j->x0, y - j->y0, (float)hits / (float)n);
 }
 
-static void render_tile(job *j, tracer *t, int tile)
+/* Pixel (x, y) with its AOVs: the samples the plain loop takes, each one's
+** record summed beside its radiance. Out of the tile loop, so a render
+** without AOVs pays one test per pixel. */
+NEVER_INLINE void render_pixel_aovs(job *j, worker *w, int x, int y, uint32_t n, int alpha)
 {
+    tracer *t = &w->t;
+    double sum[3] = {0, 0, 0};
+    uint32_t hits = 0;
+    aov_pixel p;
+    aov_pixel_begin(&p, w->objects, w->materials);
+    for (uint32_t s = 0; s < n; s++) {
+        aov_sample as;
+        memset(&as, 0, sizeof as);
+        t->aov = &as;
+        radiance c = camera_sample(j, t, x, y, s, n, alpha ? &hits : NULL);
+        sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
+        aov_pixel_add(&p, &as, j->cam.o, j->cam.f);
+    }
+    t->aov = NULL;
+    t->samples += n;
+    put(j, x, y, sum, n, hits);
+    if (x >= j->x0 && x < j->x1 && y >= j->y0 && y < j->y1)
+        aov_put(j->img, x - j->x0, y - j->y0, &p, n);
+}
+
+static void render_tile(job *j, worker *w, int tile)
+{
+    tracer *t = &w->t;
     const lc_render_options *o = j->o;
     adaptive *ad = j->adaptive;
     int x0 = j->ex0 + (tile % j->tiles_x) * TILE, y0 = j->ey0 + (tile / j->tiles_x) * TILE;
@@ -159,6 +190,10 @@ static void render_tile(job *j, tracer *t, int tile)
                 continue;
             if (j->random)
                 t->ps = sample_pixel(o->sampler, o->seed, o->frame, key);
+            if (j->aovs) {
+                render_pixel_aovs(j, w, x, y, n, alpha);
+                continue;
+            }
             if (!ad) {
                 double sum[3] = {0, 0, 0};
                 uint32_t hits = 0;
@@ -265,7 +300,7 @@ static void *work(void *arg)
         if (tile < 0)
             break;
         pthread_mutex_unlock(&j->lock);
-        render_tile(j, &w->t, tile);
+        render_tile(j, w, tile);
     }
     j->running--;
     pthread_cond_signal(&j->tile_done);
@@ -395,6 +430,10 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
         lc_image_free(img);
         return NULL;
     }
+    if (o->aovs && aov_images_new(img, o->aovs, err)) {
+        lc_image_free(img);
+        return NULL;
+    }
     if (o->alpha && o->noise > 0) {
         j.hits = mem_calloc((size_t)j.ew * j.eh, sizeof *j.hits);
         if (!j.hits) {
@@ -431,8 +470,25 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
         lc_image_free(img);
         return NULL;
     }
-    for (int i = 0; i < nt; i++)
+    int room = 1;
+    for (int i = 0; i < nt; i++) {
         tracer_init(&ws[i].t, s, o);
+        if (o->aovs)
+            room &= aov_room((uint32_t)o->samples, &ws[i].objects, &ws[i].materials);
+    }
+    if (!room) {
+        for (int i = 0; i < nt; i++)
+            mem_free(ws[i].objects), mem_free(ws[i].materials);
+        mem_free(ws);
+        mem_free(j.hits);
+        if (o->noise > 0)
+            adaptive_free(&ad);
+        lc_image_free(img);
+        error_fail(err, LC_ENOMEM, NULL, "out of memory for the AOVs' ids of %d samples",
+                   o->samples);
+        return NULL;
+    }
+    j.aovs = o->aovs;
     pthread_mutex_init(&j.lock, NULL);
     pthread_cond_init(&j.tile_done, NULL);
     int threads;
@@ -478,8 +534,11 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
     sum.degenerate = s->c.degenerate;
     memcpy(sum.why, s->c.why, sizeof sum.why);
     sum.threads = threads;
+    sum.aovs = o->aovs;
     warn(s, img, &sum);
     int cancelled = j.cancel;
+    for (int i = 0; i < nt; i++)
+        mem_free(ws[i].objects), mem_free(ws[i].materials);
     mem_free(ws);
     mem_free(j.hits);
     pthread_mutex_destroy(&j.lock);

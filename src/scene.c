@@ -125,12 +125,10 @@ int lc_scene_add_material(lc_scene *s, const lc_material *m, lc_error *err)
     if (lc_material_check(m, err))
         return -1;
     size_t ntex = s->textures ? lc_textures_count(s->textures) : 0;
-    static const char *const slots[LC_SLOTS] = {"color", "kd", "ks", "kr", "kt",
-                                                "emission", "bump"};
-    for (int k = 0; k < LC_SLOTS; k++)
+        for (int k = 0; k < LC_SLOTS; k++)
         if ((size_t)m->texture[k] > ntex)
-            return error_fail(err, LC_EARG, slots[k], "no texture %d in this scene (it "
-                              "has %zu)", m->texture[k], ntex), -1;
+            return error_fail(err, LC_EARG, lc_slot_name((lc_slot)k), "no texture %d in "
+                              "this scene (it has %zu)", m->texture[k], ntex), -1;
     if (s->nmaterials >= PRIM_MAX || !GROW(s, materials)) {
         error_fail(err, LC_ENOMEM, NULL, "out of memory adding a material");
         return -1;

@@ -164,4 +164,7 @@ int intersect_occluded_skip(const lc_scene *s, const ray *r, double tmax, uint32
                         bvh_counts *counts);
 #define INTERSECT_SKIP_NONE 0xffffffffu     /* kind 15: no primitive has this id */
 
+/* The id lc_scene_add_* gave the object a hit is on (query.c). */
+int scene_object_id(const lc_scene *s, const hit *h);
+
 #endif

@@ -119,6 +119,13 @@ static radiance glossy_split(tracer *t, const hit *h, const lc_material *m, lc_v
     return acc;
 }
 
+/* The class of a ray spawned off the camera's first hit toward d, where
+** the camera ray came along r: refraction if it crosses the surface. */
+static int aov_class(const hit *h, const ray *r, lc_vec3 d)
+{
+    return v3_dot(d, h->n) * v3_dot(r->d, h->n) > 0 ? AOV_REFRACTION : AOV_REFLECTION;
+}
+
 radiance shade_ray(tracer *t, const ray *r0, uint32_t index, uint32_t count)
 {
     path pa = {index, count, 0, 0, 0, 0};
@@ -252,10 +259,13 @@ NEVER_INLINE int no_interface(const lc_scene *s, const media *md, const hit *h,
 ** its first ray's explain record (-1 while rendering); md: the media its
 ** first ray is in. Compiled three ways (glass and log are constants, see
 ** trace_path): a scene without glass runs none of the glass code, a render
-** none of explain's, not even their tests. */
+** none of explain's, not even their tests. With aov (a camera sample's
+** path, TRACE_AOV), each bounce's light also goes to t->aov by its class:
+** the first hit's own to direct and emission, the rest to the class of the
+** first hit's branch it came by (shade.h; the sums are the same). */
 ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
                                   radiance w, int rec, const media *md0, int glass,
-                                  int log, int ao)
+                                  int log, int ao, int aov)
 {
     const lc_scene *s = t->scene;
     ray r = *r0;
@@ -266,6 +276,7 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
     media md = *md0;
     const branch *b;           /* the branch the loop goes on with */
     branch go;
+    int cls = AOV_CAMERA;      /* aov: the class of the path being followed */
     for (;;) {
         hit h;
         if (!intersect_closest(s, &r, HUGE_VAL, &h, &t->counts)) {
@@ -278,6 +289,8 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
                 explain_add(t->log, rec, bg);
             }
             acc = r_add(acc, bg);
+            if (aov)
+                aov_add(t->aov, cls, bg);
             goto done;
         }
         if (glass && md.n)     /* inside a medium: what it absorbs on the way */
@@ -303,6 +316,8 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
         }
         if (log && rec >= 0)
             explain_hit(t->log, s, rec, &h, n, w);
+        if (aov && cls == AOV_CAMERA)
+            aov_first_hit(t, &h, m, n);
 
         light_sum sum = {{0, 0, 0}, {0, 0, 0}};
         if (plan & PLAN_LIGHTS) {
@@ -336,20 +351,37 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
             local = r_add(r_mul(color, base), spec);
             next = r_scale(w, m->kr);
         }
+        radiance lit = local;
         if (plan & PLAN_EMITS)
             local = r_add(local, rad(m->emission));
         radiance own = r_mul(w, local);
         if (log && rec >= 0)
             explain_add(t->log, rec, own);
         acc = r_add(acc, own);
+        if (aov && cls != AOV_CAMERA) {
+            aov_add(t->aov, cls, own);
+        } else if (aov) {
+            aov_add(t->aov, AOV_DIRECT, r_mul(w, lit));
+            if (plan & PLAN_EMITS)
+                aov_add(t->aov, AOV_EMISSION, r_mul(w, rad(m->emission)));
+        }
         if (!(plan & (PLAN_REFLECT | PLAN_GLOSSY | (glass ? PLAN_REFRACT : 0))) ||
             pa.depth >= t->max_depth)
             goto done;
         if (glass && (plan & PLAN_REFRACT)) {
             radiance add = {0, 0, 0};
+            int before = t->npending;
             int on = dielectric_bounce(t, &h, m, plan, &r, n, w, &pa, split, rec, &md,
                                        &add, &go);
             acc = r_add(acc, add);
+            if (aov) {
+                aov_add(t->aov, cls == AOV_CAMERA ? AOV_REFLECTION : cls, add);
+                for (int k = before; k < t->npending; k++)
+                    t->pending_cls[k] = (signed char)(cls == AOV_CAMERA ?
+                        aov_class(&h, &r, t->pending[k].r.d) : cls);
+                if (on && cls == AOV_CAMERA)
+                    cls = aov_class(&h, &r, go.r.d);
+            }
             if (!on)
                 goto done;
             b = &go;
@@ -366,7 +398,10 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
         if (plan & PLAN_GLOSSY) {
             lc_vec3 axis = v3_norm(rd);
             if (!split) {
-                acc = r_add(acc, glossy_split(t, &h, m, n, axis, &pa, next, rec, &md));
+                radiance g = glossy_split(t, &h, m, n, axis, &pa, next, rec, &md);
+                acc = r_add(acc, g);
+                if (aov)
+                    aov_add(t->aov, cls == AOV_CAMERA ? AOV_REFLECTION : cls, g);
                 goto done;
             }
             /* After the split, one cone ray per bounce, at the path's own place. */
@@ -382,6 +417,8 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
         watch = cannot_return(&h, rd);
         w = next;
         pa.depth++;
+        if (aov && cls == AOV_CAMERA)
+            cls = AOV_REFLECTION;
         if (log && rec >= 0)
             rec = explain_ray(t->log, rec, kind, &r);
         continue;
@@ -389,6 +426,8 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
         if (!glass || t->npending == mine)
             break;
         b = &t->pending[--t->npending];
+        if (aov)
+            cls = t->pending_cls[t->npending];
     follow:
         r = b->r;
         w = b->w;
@@ -405,39 +444,57 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
 static radiance trace_opaque(tracer *t, const ray *r0, path pa, int split, radiance w,
                              int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 0, 0, 0);
+    return trace_loop(t, r0, pa, split, w, rec, md, 0, 0, 0, 0);
 }
 
 static radiance trace_glass(tracer *t, const ray *r0, path pa, int split, radiance w,
                             int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 0);
+    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 0, 0);
 }
 
 /* Ambient occlusion, glass or not (the glass code is behind plan bits). */
 static radiance trace_ao(tracer *t, const ray *r0, path pa, int split, radiance w,
                          int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 1);
+    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 1, 0);
 }
 
 static radiance trace_explain(tracer *t, const ray *r0, path pa, int split, radiance w,
                               int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 1, 1, 1);
+    return trace_loop(t, r0, pa, split, w, rec, md, 1, 1, 1, 0);
 }
 
-/* The scenes with glass, ambient occlusion or light that bounces share the
-** one test of the needs that glass took before, so an opaque scene's path
-** to trace_opaque is what it was. */
+/* A camera sample's path with its AOVs recorded (glass and ambient
+** occlusion behind their plan bits, as in trace_ao). */
+static radiance trace_aov(tracer *t, const ray *r0, path pa, int split, radiance w,
+                          int rec, const media *md)
+{
+    if (t->needs & LC_NEED_AO)
+        return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 1, 1);
+    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 0, 1);
+}
+
+/* The scenes with glass, ambient occlusion, light that bounces or AOVs
+** share the one test of the needs that glass took before, so an opaque
+** scene's path to trace_opaque is what it was. A camera path with AOVs
+** goes to the recording variants; the sub-paths it splits into (depth > 0)
+** to the plain ones, what they bring back counted by their caller. */
 NEVER_INLINE radiance trace_special(tracer *t, const ray *r0, path pa, int split,
                                     radiance w, int rec, const media *md)
 {
+    int camera = (t->needs & TRACE_AOV) && pa.depth == 0;
     if (t->needs & LC_NEED_INDIRECT)
-        return path_radiance(t, r0, pa.index, pa.count, rec);
+        return camera ? path_radiance_aov(t, r0, pa.index, pa.count)
+                      : path_radiance(t, r0, pa.index, pa.count, rec);
+    if (camera)
+        return trace_aov(t, r0, pa, split, w, rec, md);
     if (t->needs & LC_NEED_AO)
         return trace_ao(t, r0, pa, split, w, rec, md);
-    return trace_glass(t, r0, pa, split, w, rec, md);
+    if (t->needs & LC_NEED_REFRACT)
+        return trace_glass(t, r0, pa, split, w, rec, md);
+    return trace_opaque(t, r0, pa, split, w, rec, md);
 }
 
 static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radiance w,
@@ -446,7 +503,7 @@ static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radianc
     if (t->log)
         return t->needs & LC_NEED_INDIRECT ? path_radiance(t, r0, pa.index, pa.count, rec)
                                            : trace_explain(t, r0, pa, split, w, rec, md);
-    if (t->needs & (LC_NEED_REFRACT | LC_NEED_AO | LC_NEED_INDIRECT))
+    if (t->needs & (LC_NEED_REFRACT | LC_NEED_AO | LC_NEED_INDIRECT | TRACE_AOV))
         return trace_special(t, r0, pa, split, w, rec, md);
     return trace_opaque(t, r0, pa, split, w, rec, md);
 }

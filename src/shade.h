@@ -2,6 +2,7 @@
 #ifndef LC_SHADE_H
 #define LC_SHADE_H
 
+#include "aov.h"
 #include "explain.h"
 #include "media.h"
 #include "radiance.h"
@@ -22,6 +23,11 @@ typedef struct {
 ** depth along the path being traced, weighing at least cutoff: more than
 ** this many means 2^64 rays in the tree, never traced in a lifetime. */
 #define BRANCH_MAX 64
+
+/* In a tracer's needs beside the LC_NEED_* bits: AOVs are recorded, so the
+** camera's paths take the recording variants of the integrators (their
+** one test is the one glass and light that bounces already take). */
+#define TRACE_AOV (1u << 30)
 
 typedef struct {
     const lc_scene *scene;
@@ -46,6 +52,8 @@ typedef struct {
     const media *media;        /* the media of the point being lit (filtered shadows) */
     int      npending;
     branch   pending[BRANCH_MAX];
+    aov_sample *aov;           /* TRACE_AOV: the camera sample's record */
+    signed char pending_cls[BRANCH_MAX];   /* TRACE_AOV: each branch's AOV_* class */
 } tracer;
 
 /* The radiance camera sample `index` of `count` of the pixel brings back. */
@@ -53,5 +61,10 @@ radiance shade_ray(tracer *t, const ray *r, uint32_t index, uint32_t count);
 /* The same by path tracing (LC_NEED_INDIRECT, path.c; shade_ray goes
 ** there); rec: the camera ray's explain record, or -1. */
 radiance path_radiance(tracer *t, const ray *r, uint32_t index, uint32_t count, int rec);
+/* The same, recording into t->aov (TRACE_AOV). */
+radiance path_radiance_aov(tracer *t, const ray *r, uint32_t index, uint32_t count);
+/* What the AOVs record of the first surface a camera ray meets: h, its
+** material m (textured) and its normal n facing the camera. */
+void aov_first_hit(tracer *t, const hit *h, const lc_material *m, lc_vec3 n);
 
 #endif

@@ -17,9 +17,9 @@ typedef struct {
 
 /* Adds one light of colour lc seen along unit l with n.l = cosl; while
 ** explaining, also records what it adds to the pixel on shadow record rec. */
-static void add_light(const tracer *t, const lc_material *m, unsigned plan, lc_vec3 n,
-                      lc_vec3 v, lc_vec3 l, double cosl, radiance lc, light_sum *sum,
-                      int rec)
+ALWAYS_INLINE void add_light(const tracer *t, const lc_material *m, unsigned plan,
+                            lc_vec3 n, lc_vec3 v, lc_vec3 l, double cosl, radiance lc,
+                            light_sum *sum, int rec)
 {
     radiance d = r_scale(lc, t->cosine ? cosl : 1.0), sp = {0, 0, 0};
     sum->diffuse = r_add(sum->diffuse, d);

@@ -104,6 +104,39 @@ static void bump_uv(const lc_scene *s, int i, double k, hit *h, lc_vec3 q,
         h->ns = v3_mul(bent, 1 / l);
 }
 
+/* A tangent-space normal map (the convention of OpenGL, Blender and glTF):
+** the texture's colour c at (u, v) is the normal (2c - 1) in the frame of
+** the tangent T along dp/du, the bitangent B along dp/dv and the shading
+** normal N, each made orthogonal to those before it (Gram-Schmidt), so a
+** mirrored or rotated uv layout bends the right way; the tangent components
+** are scaled by k. (0.5, 0.5, 1) leaves N as it is. */
+static void normal_map(const lc_scene *s, int i, double k, hit *h, lc_vec3 q,
+                       const double uv[2])
+{
+    lc_vec3 pu, pv;
+    if (!uv_tangents(s, h, &pu, &pv))
+        return;
+    lc_vec3 n = h->ns;
+    lc_vec3 t = v3_sub(pu, v3_mul(n, v3_dot(n, pu)));
+    double lt = v3_len(t);
+    if (!(lt > 0))
+        return;
+    t = v3_mul(t, 1 / lt);
+    lc_vec3 b = v3_sub(v3_sub(pv, v3_mul(n, v3_dot(n, pv))), v3_mul(t, v3_dot(t, pv)));
+    double lb = v3_len(b);
+    if (!(lb > 0))
+        return;
+    b = v3_mul(b, 1 / lb);
+    lc_color c = lc_textures_eval(s->textures, i, h->p, q, uv);
+    double x = (2.0 * c.r - 1) * k, y = (2.0 * c.g - 1) * k, z = 2.0 * c.b - 1;
+    if (x == 0 && y == 0 && z > 0)
+        return;                                 /* flat: N exactly */
+    lc_vec3 bent = v3_madd(v3_madd(v3_mul(n, z), t, x), b, y);
+    double l = v3_len(bent);
+    if (l > 0 && isfinite(l))
+        h->ns = v3_mul(bent, 1 / l);
+}
+
 const lc_material *surface_material(const lc_scene *s, hit *h, const lc_material *m,
                                     lc_material *out)
 {
@@ -132,6 +165,8 @@ const lc_material *surface_material(const lc_scene *s, hit *h, const lc_material
         lc_color c = lc_textures_eval(set, tx[LC_SLOT_EMISSION] - 1, h->p, q, uv);
         out->emission = (lc_color){fmaxf(0, c.r), fmaxf(0, c.g), fmaxf(0, c.b)};
     }
+    if (tx[LC_SLOT_NORMAL])
+        normal_map(s, tx[LC_SLOT_NORMAL] - 1, m->normal_scale, h, q, uv);
     if (tx[LC_SLOT_BUMP] && m->bump != 0) {
         int b = tx[LC_SLOT_BUMP] - 1;
         if (textures_use_uv(set, b))

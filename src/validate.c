@@ -8,8 +8,15 @@
 lc_material lc_material_default(void)
 {
     lc_material m = {{1, 1, 1}, 1, 1, 0, 0, 32, {0, 0, 0}, LC_ABSORB_ALL, 0, 16,
-                     0, 1, 1, {0, 0, 0}, LC_SHADOW_FILTERED, {0}, 0};
+                     0, 1, 1, {0, 0, 0}, LC_SHADOW_FILTERED, {0}, 0, 1};
     return m;
+}
+
+const char *lc_slot_name(lc_slot slot)
+{
+    static const char *const names[LC_SLOTS] = {"color", "kd", "ks", "kr", "kt",
+                                                "emission", "bump", "normal_map"};
+    return (unsigned)slot < LC_SLOTS ? names[slot] : "?";
 }
 
 lc_settings lc_settings_default(void)
@@ -154,15 +161,16 @@ lc_status lc_material_check(const lc_material *m, lc_error *err)
                        LC_MAX_CONE_SAMPLES, m->cone_samples);
     if (m->absorb != LC_ABSORB_ALL && m->absorb != LC_ABSORB_DIFFUSE)
         return error_fail(err, LC_EARG, "absorb", "unknown absorb mode %d", (int)m->absorb);
-    static const char *const slots[LC_SLOTS] = {"color", "kd", "ks", "kr", "kt",
-                                                "emission", "bump"};
     for (int k = 0; k < LC_SLOTS; k++)
         if (m->texture[k] < 0)
-            return error_fail(err, LC_EARG, slots[k], "texture index must be >= 0 (0: "
-                              "none), got %d", m->texture[k]);
+            return error_fail(err, LC_EARG, lc_slot_name((lc_slot)k), "texture index must be "
+                              ">= 0 (0: none), got %d", m->texture[k]);
     if (!(m->bump >= -1e6 && m->bump <= 1e6))
         return error_fail(err, LC_EARG, "bump_scale", "must be in [-1e6, 1e6], got %g",
                           m->bump);
+    if (!(m->normal_scale >= 0 && m->normal_scale <= 1e6))
+        return error_fail(err, LC_EARG, "normal_scale", "must be in [0, 1e6], got %g",
+                          m->normal_scale);
     error_ok(err);
     return LC_OK;
 }
@@ -284,6 +292,12 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
     if (o->ao_samples > 0 && !(o->ao_distance > 0 && o->ao_distance <= LC_MAX_COORD))
         return error_fail(err, LC_EARG, "ao", "distance must be in (0, %g], got %g",
                           LC_MAX_COORD, o->ao_distance);
+    if (o->aovs & ~LC_AOV_ALL)
+        return error_fail(err, LC_EARG, "aovs", "unknown AOV bits 0x%x",
+                          o->aovs & ~LC_AOV_ALL);
+    if (o->aovs && o->noise > 0)
+        return error_fail(err, LC_EARG, "aovs", "AOVs are not made with adaptive sampling "
+                          "(noise > 0): render them with a fixed number of samples");
     const int *r = o->region;
     if ((r[0] | r[1] | r[2] | r[3]) != 0 &&
         !(r[0] >= 0 && r[0] < r[2] && r[2] <= o->width && r[1] >= 0 && r[1] < r[3] &&

@@ -38,4 +38,5 @@ still 11_csg 107
 still 12_textures 100
 still 13_obj_mtl 100
 still 14_shapes 100
+still 15_lights_and_sky 100
 ls -l "$out"

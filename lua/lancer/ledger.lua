@@ -13,7 +13,8 @@ local INTEGERS = {"threads", "prim_tests", "node_tests", "primitives", "bvh_node
                   "degenerate", "self_hits"}
 local NUMBERS = {"seconds", "compile_seconds", "trace_seconds"}
 local OPTIONAL = {{"lua_seconds", "number"}, {"samples", "integer"},
-                  {"converged", "integer"}, {"why", "table"}, {"csg_tests", "integer"}}
+                  {"converged", "integer"}, {"why", "table"}, {"csg_tests", "integer"},
+                  {"aovs", "table"}}
 
 local function got(v)
   if v == nil then return "no value" end
@@ -83,6 +84,9 @@ function M.format(st, label)
   if st.samples then
     add("  samples   %d camera samples%s", st.samples,
         (st.converged or 0) > 0 and (", %d pixels converged early"):format(st.converged) or "")
+  end
+  if st.aovs and #st.aovs > 0 then     -- a render without AOVs shows nothing here
+    add("  aovs      %s", table.concat(st.aovs, ", "))
   end
   add("  tests     %d primitive, %d BVH node (%.1f and %.1f per ray)", st.prim_tests,
       st.node_tests, total > 0 and st.prim_tests / total or 0,

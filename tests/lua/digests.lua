@@ -28,6 +28,8 @@ return {
   ["examples/13_obj_mtl.lua @48x36x1"] = "5312657695aecd7b",
   ["examples/14_shapes.lua @32x24x4"] = "e687fd945df36fd7",
   ["examples/14_shapes.lua @48x36x1"] = "4088d24acb6bb416",
+  ["examples/15_lights_and_sky.lua @32x24x4"] = "70ad4df444762bb1",
+  ["examples/15_lights_and_sky.lua @48x36x1"] = "91e151a44e4201a6",
   ["scenes/bench/b1.lua 1 @32x24x4"] = "e725cb96731d5589",
   ["scenes/bench/b1.lua 1 @48x36x1"] = "2112b6efa95a4c41",
   ["scenes/bench/b2.lua 300 @32x24x4"] = "9f1ad755f9097b14",

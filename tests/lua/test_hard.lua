@@ -1874,14 +1874,34 @@ T.test("A5 Snell's window: under water, the sky inside 48.61 degrees, darkness p
   T.near(inside, math.pi * radius * radius, 2 * math.pi * radius, "pixels inside the rim")
 end)
 
--- ---- WAITS: cases for features lancer does not have yet ----------------------
--- Each passes while the feature's field is still unknown; when it lands the
--- test fails, and must be rewritten as the real case of NUMERICS.md.
-local function waits(id, what, field, call)
-  T.test(("WAITS %s %s (needs '%s')"):format(id, what, field), function()
-    T.check_error(call, "unknown field '" .. field .. "'")
-  end)
-end
-local function mat(t) return function() lancer.material(t) end end
-waits("H31", "checker to the horizon converges to its mean", "texture",
-      mat{texture = "checker"})
+-- ---- H31: an infinite checkerboard to the horizon -----------------------------
+T.test("H31 a checker to the horizon: nothing above it, nothing missing below, its mean", function()
+  -- The eye 1 above the floor, looking level: the horizon is the line
+  -- between rows H/2 and H/2 + 1, exactly.
+  local W, H, SPP = 128, 48, 64
+  local s = lancer.scene{camera = lancer.camera{from = {0, 1, 0}, at = {0, 1, 10}, fov = 60},
+                         ambient = 1, background = {0.25, 0.25, 0.25}}
+  local board = lancer.checker{a = {1, 1, 1}, b = {0, 0, 0}, scale = 0.5}
+  s:add(lancer.plane{point = {0, 0, 0}, normal = {0, 1, 0},
+                     material = lancer.material{color = board, ka = 1, kd = 0}})
+  local img = s:render{width = W, height = H, samples = SPP, alpha = true}
+  T.eq(img:nonfinite(), 0, "no NaN or infinity")
+  local near_sum, near_n = 0, 0
+  for y = 1, H do
+    for x = 1, W do
+      local r, g, b, a = img:pixel(x, y)
+      if y <= H / 2 then
+        -- Every sample of these rows looks up: the floor never shows.
+        T.eq(a, 0, ("coverage above the horizon at %d,%d"):format(x, y))
+      else
+        -- Every sample looks down and meets the floor, however grazing.
+        T.eq(a, 1, ("coverage below the horizon at %d,%d"):format(x, y))
+        assert(r >= 0 and r <= 1 and r == g and g == b, "a grey in [0, 1]")
+        if y <= H / 2 + 4 then near_sum, near_n = near_sum + r, near_n + 1 end
+      end
+    end
+  end
+  -- The four rows under the horizon see squares too small for a pixel: they
+  -- average the board's mean, 0.5 (32768 samples: sigma 0.7/255).
+  T.near(near_sum / near_n, 0.5, 2 / 255, "rows at the horizon: the checker's mean")
+end)

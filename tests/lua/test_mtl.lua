@@ -83,6 +83,21 @@ f 2/1 5/2 6/3 3/4
   same(right, {0.5, 0.25, 1}, "a name found nowhere")
 end)
 
+T.test("load_obj: an .mtl norm map becomes a normal map, its values read as data", function()
+  local dir = T.temp_dir()
+  -- Stored 255, 128, 128: a normal leaning along dp/du by 45 degrees.
+  local lean = lancer.image{width = 1, height = 1, color = {1, 0.5, 0.5}}
+  lean:save(dir .. "/lean.png", {encoding = "linear"})
+  T.write(dir .. "/n.mtl", "newmtl bent\nKd 1 1 1\nnorm lean.png\n")
+  T.write(dir .. "/n.obj", "mtllib n.mtl\n" .. QUADS .. "usemtl bent\nf 1/1 2/2 3/3 4/4\n")
+  local m = lancer.load_obj(dir .. "/n.obj")
+  local mat = m.materials[1]
+  T.eq(mat.normal_map.kind, "image_texture", "norm is the normal map")
+  T.eq(mat.normal_scale, 1, "at full strength")
+  T.eq(mat.color[1], 1, "the colour stays Kd")
+  T.eq(#m.warnings, 0, "no warning")
+end)
+
 T.test("load_obj: .mtl errors name the file and the line; a missing map names it", function()
   local dir = T.temp_dir()
   T.write(dir .. "/a.obj", "mtllib a.mtl\n" .. QUADS .. "usemtl x\nf 1 2 3\n")
