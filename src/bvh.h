@@ -49,6 +49,10 @@ typedef struct {
 ** hundred nodes and every pass over many items). */
 lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_seen,
                     lc_error *err);
+/* The same, each item weighed by what testing it costs: cost[id >> 28], in
+** units of one sphere or triangle test (bvh_build: all 1). */
+lc_status bvh_build_costed(bvh *b, bvh_item *items, size_t n, const float *cost,
+                           sig_atomic_t interrupts_seen, lc_error *err);
 void      bvh_free(bvh *b);
 
 /* The binary tree the build makes (bvh.c), before bvh_collapse (bvh_wide.c)
