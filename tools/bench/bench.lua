@@ -10,7 +10,8 @@
 -- cases have keys too: robust, parity, knobs (T5: cost linear in camera,
 -- cone and light samples, tools/bench/knobs.lua), adaptive (T7: adaptive
 -- sampling against uniform 256 spp, tools/bench/adaptive.lua), embree
--- (lancer's ray queries against Embree's, tools/bench/embree.lua).
+-- (lancer's ray queries against Embree's, tools/bench/embree.lua), fixed (the
+-- fixed cost of a run beside a frame's trace, tools/bench/fixed.lua).
 --
 -- For each case: write the POV-Ray and Tachyon files into out/bench/, then
 -- run lancer, POV-Ray and Tachyon in turn (interleaved, so a noisy spell
@@ -31,6 +32,7 @@ local parity = module("parity")
 local knobs = module("knobs")
 local adaptive = module("adaptive")
 local embree = module("embree")
+local fixed = module("fixed")
 
 local ROOT = run.output("cd " .. run.quote(here .. "/../..") .. " && pwd")
 local OUT = ROOT .. "/out/bench"
@@ -258,11 +260,11 @@ for key in pairs(ONLY or {}) do
   local known = false
   for _, case in ipairs(CASES) do known = known or case.key == key end
   known = known or key == "robust" or key == "parity" or key == "knobs" or
-          key == "adaptive" or key == "embree"
+          key == "adaptive" or key == "embree" or key == "fixed"
   if not known then
     fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m city "
          .. "clusters mixed instances csg "
-         .. "robust parity knobs adaptive embree)", key)
+         .. "robust parity knobs adaptive embree fixed)", key)
   end
 end
 local results = {}
@@ -290,6 +292,11 @@ if not ONLY or ONLY.parity then
   else
     say("%s not found: `make bench` builds it (make MINIMAL=1)", MINIMAL)
   end
+end
+if not ONLY or ONLY.fixed then
+  say("the fixed cost of a run")
+  text = text .. "\n" .. fixed.section{run = run, runstat = RUNSTAT, root = ROOT, out = OUT,
+    lancer = LANCER, runs = QUICK and 3 or 7, say = say}
 end
 if not ONLY or ONLY.knobs then
   say("cost linear in each knob (T5)")
