@@ -337,9 +337,10 @@ ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx
     }
 }
 
-/* A hierarchy of one leaf (a scene of a few bounded shapes, as B1's three
-** spheres and a box): its box tested inline, then the leaf, as the binary
-** tree did, without the call and set-up of a traversal. */
+/* A hierarchy of one leaf (a scene of a few bounded shapes weighing at
+** most MIN_LEAF, bvh.c: four spheres, or two and a box): its box tested
+** inline, then the leaf, as the binary tree did, without the call and
+** set-up of a traversal. */
 static inline int bvh_lone_leaf(const bvh *b)
 {
     return b->lone;
