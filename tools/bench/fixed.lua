@@ -18,8 +18,8 @@ M.TARGET = 0.25        -- the fixed cost at most this share of B1's 1-spp trace
 function M.section(ctx)
   local run, out = ctx.run, ctx.out
   local frame = out .. "/fixed-b1.png"
-  local t = {startup = {}, wall = {}, lua = {}, build = {}, trace = {}, save0 = {},
-             saves = {}, cpu = {}}
+  local t = {startup = {}, wall = {}, lua = {}, build = {}, trace = {}, rest = {},
+             around = {}, saves = {}, cpu = {}}
   local function measure(name, argv)
     local r = run.measure(ctx.runstat, argv, ctx.root, ("%s/fixed-%s.log"):format(out, name))
     if not r.wall or r.status ~= 0 then
@@ -33,12 +33,17 @@ function M.section(ctx)
   for i = 1, ctx.runs do
     local r = measure("startup", {ctx.lancer, "-e", ""})
     if r then t.startup[#t.startup + 1] = r.wall end
+    local up = r and r.wall
     r = measure("b1", {ctx.lancer, "scenes/bench/b1.lua", "1"})
-    if r and r.bench.trace then
+    if r and r.bench.trace and up then
+      local b = r.bench
       t.wall[#t.wall + 1] = r.wall
-      t.lua[#t.lua + 1] = r.bench.lua
-      t.build[#t.build + 1] = r.bench.build
-      t.trace[#t.trace + 1] = r.bench.trace
+      t.lua[#t.lua + 1] = b.lua
+      t.build[#t.build + 1] = b.build
+      t.trace[#t.trace + 1] = b.trace
+      -- per run, then the median: parts of one run stay consistent
+      t.around[#t.around + 1] = r.wall - b.trace
+      t.rest[#t.rest + 1] = r.wall - up - b.lua - b.build - b.trace
     end
     local r0 = measure("save0", {ctx.lancer, "tools/bench/fixed_saves.lua", frame, "0",
                                  out .. "/fixed-save.png"})
@@ -62,8 +67,8 @@ function M.section(ctx)
   if not (m.startup and m.wall and m.trace and m.saves and m.cpu) then
     return table.concat(lines) .. "(not measured: a part failed, see out/bench/fixed-*.log)\n"
   end
-  local rest = m.wall - m.startup - m.lua - m.build - m.trace
-  local fixed = m.wall - m.trace + m.saves
+  local rest = m.rest
+  local fixed = m.around + m.saves
   local function row(part, s)
     return ("| %s | %.4f | %.1f %% |\n"):format(part, s, 100 * s / m.trace)
   end
