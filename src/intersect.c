@@ -146,6 +146,10 @@ static void shading_normal(const lc_scene *s, hit *h)
 void intersect_uv(const lc_scene *s, const hit *h, double uv[2])
 {
     unsigned kind = PRIM_KIND(h->shape);
+    if (kind == PRIM_CSG_FACE || kind == PRIM_CSG_CUT) {     /* on a leaf, its own */
+        csg_hit_uv(s->csgs[PRIM_INDEX(h->shape)], h, uv);
+        return;
+    }
     if (kind != PRIM_TRIANGLE) {
         lc_shape_kind k = shape_kind_of_prim(kind);
         shape_uv(k, shape_at(&s->shapes[k], PRIM_INDEX(h->shape)), h->p, uv);

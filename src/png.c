@@ -208,69 +208,24 @@ done:
     return st;
 }
 
-/* Decoded: libpng's own reader (its simplified API) turns every colour
-** type, bit depth, palette, tRNS, interlacing and gAMA/sRGB/cHRM into 16-bit
-** linear light, composited onto black where the file is transparent; a
-** file that says nothing of its encoding is sRGB. */
-static lc_image *load_decoded(const char *path, lc_error *err)
+/* The sRGB curve's inverse (IEC 61966-2-1), exactly, in double. */
+static double srgb_to_linear(double v)
 {
-    FILE *fp = fopen(path, "rb");
-    if (!fp) {
-        error_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
-        return NULL;
-    }
-    if (check_chunks(fp, path, err)) {
-        fclose(fp);
-        return NULL;
-    }
-    png_image pi;
-    memset(&pi, 0, sizeof pi);
-    pi.version = PNG_IMAGE_VERSION;
-    if (!png_image_begin_read_from_stdio(&pi, fp)) {
-        error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path, pi.message);
-        png_image_free(&pi);
-        fclose(fp);
-        return NULL;
-    }
-    if (check_size(pi.width, pi.height, path, err)) {
-        png_image_free(&pi);
-        fclose(fp);
-        return NULL;
-    }
-    pi.format = PNG_FORMAT_LINEAR_RGB;
-    lc_image *img = lc_image_new((int)pi.width, (int)pi.height, err);
-    uint16_t *buf = img ? mem_alloc(PNG_IMAGE_SIZE(pi)) : NULL;
-    if (!buf) {
-        if (img)
-            error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' (%lux%lu)", path,
-                       (unsigned long)pi.width, (unsigned long)pi.height);
-        png_image_free(&pi);
-        fclose(fp);
-        lc_image_free(img);
-        return NULL;
-    }
-    int ok = png_image_finish_read(&pi, NULL, buf, 0, NULL);
-    fclose(fp);
-    if (!ok) {
-        error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path, pi.message);
-        png_image_free(&pi);
-        mem_free(buf);
-        lc_image_free(img);
-        return NULL;
-    }
-    size_t n = 3 * (size_t)pi.width * pi.height;
-    for (size_t i = 0; i < n; i++)
-        img->px[i] = (float)(buf[i] / 65535.0);
-    mem_free(buf);
-    png_image_free(&pi);
-    error_ok(err);
-    return img;
+    return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
 }
 
-/* As stored: every sample v / (2^depth - 1), whatever the file says of its
-** encoding (data, or linear files without a gAMA chunk); palettes and low
-** bit depths expanded, alpha (and tRNS) dropped, interlaced passes merged. */
-static lc_image *load_stored(const char *path, lc_error *err)
+/* Reads every pixel with libpng's low-level reader: palettes and low bit
+** depths expanded, interlaced passes merged, grey made RGB. decode = 0: as
+** stored, every sample v / (2^depth - 1), whatever the file says of its
+** encoding (data, or linear files without a gAMA chunk), alpha and tRNS
+** dropped. decode = 1: linear light, each sample through the curve the
+** file declares (the sRGB curve for an sRGB chunk, v^(1/g) for a gAMA of g
+** alone; when it says nothing, libpng's rule: sRGB at 8 bits and below,
+** linear at 16), computed in double for
+** every stored value: libpng's simplified reader goes through 8 bits and
+** approximates sRGB by a power of 2.2, up to 4/255 off in the darks. Then
+** composited onto black where the file is transparent (alpha or tRNS). */
+static lc_image *read_png(const char *path, int decode, lc_error *err)
 {
     FILE *fp = fopen(path, "rb");
     if (!fp) {
@@ -288,12 +243,14 @@ static lc_image *load_stored(const char *path, lc_error *err)
     lc_image *volatile img = NULL;
     unsigned char *volatile pixels = NULL;
     png_bytep *volatile rows = NULL;
+    float *volatile curve = NULL;
     lc_status volatile refused = LC_OK;
     if (!png || !info || setjmp(png_jmpbuf(png))) {
         png_destroy_read_struct(png ? &png : NULL, info ? &info : NULL, NULL);
         fclose(fp);
         mem_free(rows);
         mem_free(pixels);
+        mem_free(curve);
         lc_image_free(img);
         if (!refused)
             error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path,
@@ -313,51 +270,71 @@ static lc_image *load_stored(const char *path, lc_error *err)
         png_set_gray_to_rgb(png);
     if (depth < 8)
         png_set_expand(png);
-    if (type & PNG_COLOR_MASK_ALPHA)
+    int trns = png_get_valid(png, info, PNG_INFO_tRNS) != 0;
+    if (trns)
+        png_set_tRNS_to_alpha(png);
+    if (!decode && (trns || (type & PNG_COLOR_MASK_ALPHA)))
         png_set_strip_alpha(png);
-    if (png_get_valid(png, info, PNG_INFO_tRNS))
-        png_set_tRNS_to_alpha(png), png_set_strip_alpha(png);
+    double gamma = 0;
+    int declared = png_get_valid(png, info, PNG_INFO_sRGB) ||
+                   (png_get_gAMA(png, info, &gamma) && gamma > 0);
+    if (!declared)                     /* libpng's rule: 8 bits sRGB, 16 linear */
+        gamma = depth == 16 ? 1 : 0;
+    int srgb = png_get_valid(png, info, PNG_INFO_sRGB) || !(gamma > 0);
     if (depth == 16)
         png_set_swap(png);             /* PNG is big-endian; read native order */
     png_set_interlace_handling(png);   /* Adam7: every pass lands in place */
     png_read_update_info(png, info);
     int bytes = png_get_bit_depth(png, info) == 16 ? 2 : 1;
+    int ch = png_get_channels(png, info);        /* 3, or 4 with alpha */
     size_t rowbytes = png_get_rowbytes(png, info);
     img = lc_image_new((int)w, (int)h, err);
     if (!img) {
         refused = LC_ENOMEM;
         png_error(png, "out of memory");
     }
+    unsigned max = bytes == 2 ? 65535 : 255;
     pixels = mem_alloc(rowbytes * h);
     rows = mem_alloc(h * sizeof *rows);
-    if (!pixels || !rows)
+    curve = mem_alloc(((size_t)max + 1) * sizeof *curve);
+    if (!pixels || !rows || !curve)
         png_error(png, "out of memory");
+    for (unsigned v = 0; v <= max; v++) {
+        double x = v / (double)max;
+        curve[v] = (float)(!decode ? x : srgb ? srgb_to_linear(x) : pow(x, 1 / gamma));
+    }
     for (png_uint_32 y = 0; y < h; y++)
         rows[y] = pixels + y * rowbytes;
     png_read_image(png, rows);
     /* No png_read_end: what follows the image data (text, a bad CRC there)
-    ** is not read, as libpng's simplified reader does not read it either,
-    ** so that a file reads in both encodings or in neither. */
-    double max = bytes == 2 ? 65535 : 255;
+    ** is not read, so that a file reads in both encodings or in neither. */
     for (png_uint_32 y = 0; y < h; y++) {
         float *dst = img->px + (size_t)y * w * 3;
-        for (png_uint_32 i = 0; i < 3 * w; i++) {
-            unsigned v = bytes == 2 ? ((const uint16_t *)(const void *)rows[y])[i]
-                                    : rows[y][i];
-            dst[i] = (float)(v / max);
+        const uint16_t *r16 = (const uint16_t *)(const void *)rows[y];
+        const unsigned char *r8 = rows[y];
+        for (png_uint_32 x = 0; x < w; x++) {
+            size_t at = (size_t)x * (size_t)ch;
+            double a = 1;
+            if (ch == 4)
+                a = (bytes == 2 ? r16[at + 3] : r8[at + 3]) / (double)max;
+            for (int c = 0; c < 3; c++) {
+                unsigned v = bytes == 2 ? r16[at + (size_t)c] : r8[at + (size_t)c];
+                dst[3 * x + (png_uint_32)c] = ch == 4 ? (float)(curve[v] * a) : curve[v];
+            }
         }
     }
     png_destroy_read_struct(&png, &info, NULL);
     fclose(fp);
     mem_free(rows);
     mem_free(pixels);
+    mem_free(curve);
     error_ok(err);
     return img;
 }
 
 lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err)
 {
-    return enc == LC_ENCODE_SRGB ? load_decoded(path, err) : load_stored(path, err);
+    return read_png(path, enc == LC_ENCODE_SRGB, err);
 }
 
 /* A part as lancer wrote it, samples untouched (16-bit ones in the machine's

@@ -57,11 +57,8 @@ static lc_status begin(lc_scene *s, const lc_ray *rays, size_t n, sig_atomic_t s
 
 int scene_object_id(const lc_scene *s, const hit *h)
 {
-    unsigned pk = PRIM_KIND(h->shape);
     int kind;
     long primitive;
-    if (pk == PRIM_CSG_FACE || pk == PRIM_CSG_CUT)
-        return s->csgs[PRIM_INDEX(h->shape)]->id;
     return object_of(s, h, &kind, &primitive);
 }
 
@@ -69,6 +66,12 @@ static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive
 {
     unsigned pk = PRIM_KIND(h->shape);
     *primitive = 0;
+    if (pk == PRIM_CSG_FACE || pk == PRIM_CSG_CUT) {    /* a CSG object: its leaf's kind */
+        const csg_tree *t = s->csgs[PRIM_INDEX(h->shape)];
+        double uv[2];
+        *kind = csg_hit_uv(t, h, uv);
+        return t->id;
+    }
     if (pk != PRIM_TRIANGLE) {
         lc_shape_kind k = shape_kind_of_prim(pk);
         *kind = (int)k;

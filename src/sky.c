@@ -46,13 +46,40 @@ static double row_latitude(int j, int h)
     return (0.5 - (j + 0.5) / h) * PI;
 }
 
+static double luminance(const float *px, int w, int i, int j)
+{
+    const float *t = px + 3 * ((size_t)j * w + i);
+    return 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
+}
+
+/* A texel's sampling weight when the sky is filtered (a nearest-texel sky
+** takes its own luminance): the mean over the texel of the bilinear
+** interpolant, which spreads each texel into its neighbours with weights
+** 1/8, 3/4, 1/8 along each axis (around in u, clamped at the poles).
+** Weighted by its own luminance, a dim texel next to a sun, which the
+** filter lights, was almost never sampled, and BSDF rays that met the
+** sun's spread took nearly the whole MIS weight: fireflies
+** (tests/lua/test_indirect.lua measures the spread). */
+static double reach(const float *px, int w, int h, int i, int j)
+{
+    static const double k[3] = {0.125, 0.75, 0.125};
+    double m = 0;
+    for (int dj = -1; dj <= 1; dj++) {
+        int y = j + dj < 0 ? 0 : j + dj >= h ? h - 1 : j + dj;
+        for (int di = -1; di <= 1; di++)
+            m += k[dj + 1] * k[di + 1] * luminance(px, w, (i + di + w) % w, y);
+    }
+    return m;
+}
+
 lc_status sky_dist_build(const lc_scene *s, sky_dist *d, lc_error *err)
 {
     sky_dist_free(d);
     const float *px;
-    int w, h;
+    int w, h, nearest;
     if (!(s->c.needs & LC_NEED_SKY) ||
-        !textures_image(s->textures, s->settings.background_texture - 1, &px, &w, &h))
+        !textures_image(s->textures, s->settings.background_texture - 1, &px, &w, &h,
+                        &nearest))
         return LC_OK;                               /* uniform over the sphere */
     d->row = mem_alloc((size_t)(h + 1) * sizeof *d->row);
     d->rowp = mem_alloc((size_t)h * sizeof *d->rowp);
@@ -67,8 +94,7 @@ lc_status sky_dist_build(const lc_scene *s, sky_dist *d, lc_error *err)
         double *c = d->col + (size_t)j * (w + 1), cosl = cos(row_latitude(j, h)), sum = 0;
         c[0] = 0;
         for (int i = 0; i < w; i++) {
-            const float *t = px + 3 * ((size_t)j * w + i);
-            double lum = 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
+            double lum = nearest ? luminance(px, w, i, j) : reach(px, w, h, i, j);
             sum += lum > 0 ? lum * cosl : 0;
             c[i + 1] = sum;
         }

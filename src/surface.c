@@ -9,9 +9,11 @@
 ** mesh's object space, a moved placed shape's own; else the world's. */
 static lc_vec3 object_point(const lc_scene *s, const hit *h)
 {
+    unsigned kind = PRIM_KIND(h->shape);
+    if (kind == PRIM_CSG_FACE || kind == PRIM_CSG_CUT)   /* instance: the leaf's node */
+        return csg_hit_object_point(s->csgs[PRIM_INDEX(h->shape)], h);
     if (h->instance)
         return lc_transform_point(&s->meshes[h->instance - 1].xf->inv, h->p);
-    unsigned kind = PRIM_KIND(h->shape);
     if (kind == PRIM_TRIANGLE)
         return h->p;
     lc_shape_kind k = shape_kind_of_prim(kind);

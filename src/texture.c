@@ -393,7 +393,8 @@ double textures_step(const lc_textures *s, int i)
     return 1e-3 * s->t[i].d.scale;
 }
 
-int textures_image(const lc_textures *s, int i, const float **px, int *w, int *h)
+int textures_image(const lc_textures *s, int i, const float **px, int *w, int *h,
+                   int *nearest)
 {
     const texture *t = &s->t[i];
     if (t->d.kind != LC_TEX_IMAGE || t->d.mapping != LC_MAP_UV || t->d.moved ||
@@ -402,6 +403,7 @@ int textures_image(const lc_textures *s, int i, const float **px, int *w, int *h
     *px = t->px;
     *w = t->w;
     *h = t->h;
+    *nearest = t->d.nearest != 0;
     return 1;
 }
 

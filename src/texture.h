@@ -16,9 +16,10 @@ double       textures_scalar(const lc_textures *s, int i, lc_vec3 p, lc_vec3 q,
 /* The step over which a bump's slope is taken: a thousandth of its period. */
 double       textures_step(const lc_textures *s, int i);
 /* 1 when texture i is an image laid once over the texture coordinates (not
-** moved, scale 1): its linear RGB texels, row 0 at the top, w x h. */
+** moved, scale 1): its linear RGB texels, row 0 at the top, w x h, and
+** whether it is read by nearest texel (else bilinearly). */
 int          textures_image(const lc_textures *s, int i, const float **px, int *w,
-                            int *h);
+                            int *h, int *nearest);
 /* 1 when texture i, or one within it, reads texture coordinates. */
 int          textures_use_uv(const lc_textures *s, int i);
 

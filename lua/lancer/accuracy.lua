@@ -23,9 +23,12 @@ local KNOBS = {
   cone_samples  = {min = 1, max = 4096, ref = "budget"},
   light_samples = {min = 0, max = 4096, ref = "budget"},
   max_depth     = {min = 0, max = 1000000, ref = "depth"},
-  indirect      = {min = 0, max = 1024, ref = "depth"},
+  indirect      = {min = 0, max = 1024, ref = "bounces"},
+  -- Adaptive sampling's target: a number in (0, 1], levels decreasing
+  -- (each asks for less noise); the reference is uniform sampling.
+  noise         = {min = 0, max = 1, ref = "uniform", real = true},
 }
-local ORDER = {"samples", "cone_samples", "light_samples", "max_depth", "indirect"}
+local ORDER = {"samples", "cone_samples", "light_samples", "max_depth", "indirect", "noise"}
 local ALIASES = {depth = "max_depth"}
 -- Ray kinds in a fixed column order; any other kind the core reports is
 -- appended in name order.
@@ -51,17 +54,32 @@ local function parse_knob(spec)
   end
   local levels = {}
   for item in (list .. ","):gmatch("([^,]*),") do
-    local v = math.tointeger(tonumber(item))
-    if not v then
-      return nil, ("option '--knob': %s level '%s' is not an integer"):format(name, item)
-    end
-    if v < k.min or v > k.max then
-      return nil, ("option '--knob': %s levels must be in [%d, %d], got %d"):format(
-        name, k.min, k.max, v)
-    end
-    if #levels > 0 and v <= levels[#levels] then
-      return nil, ("option '--knob': %s levels must increase, got %d after %d"):format(
-        name, v, levels[#levels])
+    local v = tonumber(item)
+    if k.real then
+      if not v or v ~= v then
+        return nil, ("option '--knob': %s level '%s' is not a number"):format(name, item)
+      end
+      if v <= k.min or v > k.max then
+        return nil, ("option '--knob': %s levels must be in (%g, %g], got %s"):format(
+          name, k.min, k.max, item)
+      end
+      if #levels > 0 and v >= levels[#levels] then
+        return nil, ("option '--knob': %s levels must decrease, got %s after %g"):format(
+          name, item, levels[#levels])
+      end
+    else
+      v = math.tointeger(v)
+      if not v then
+        return nil, ("option '--knob': %s level '%s' is not an integer"):format(name, item)
+      end
+      if v < k.min or v > k.max then
+        return nil, ("option '--knob': %s levels must be in [%d, %d], got %d"):format(
+          name, k.min, k.max, v)
+      end
+      if #levels > 0 and v <= levels[#levels] then
+        return nil, ("option '--knob': %s levels must increase, got %d after %d"):format(
+          name, v, levels[#levels])
+      end
     end
     levels[#levels + 1] = v
   end
@@ -128,9 +146,26 @@ local function set_knob(scene, o, name, value)
   if name == "max_depth" then scene.max_depth = value end
 end
 
--- The reference's knob value and each half's value, with a description.
-local function reference_plan(knob)
+-- The reference's knob value and each half's value, with a description;
+-- a fourth value, when there is one, is each half's camera samples.
+local function reference_plan(knob, samples)
   local k, top = KNOBS[knob.name], knob.levels[#knob.levels]
+  if k.ref == "bounces" then
+    -- Bounces of light, as depth, but every path is random: the halves
+    -- also take 16 / 2 times the camera samples, or the reference's noise
+    -- would be the levels' own.
+    local d = math.min(k.max, math.max(DEPTH_REF, 4 * top))
+    local s = math.max(1, REF_FACTOR * samples // 2)
+    return d, d, ("%s=%d, samples=%d, 2 renders of %d averaged"):format(knob.name, d,
+      2 * s, s), s
+  end
+  if k.ref == "uniform" then
+    -- Adaptive sampling stops each pixel at `noise` or at `samples`; the
+    -- reference takes 4 times that cap in every pixel, in two halves.
+    local s = 2 * samples
+    return 0, 0, ("noise=0 (uniform), samples=%d, 2 renders of %d averaged"):format(
+      2 * s, s), s
+  end
   if k.ref == "depth" then
     -- Depth is a truncation, not a sample count: 16x a depth of 10 costs
     -- nothing more once the cutoff stops the chains, and 64 bounces leave
@@ -153,13 +188,19 @@ end
 local function sweep(plain, scene, base, knob, seeds)
   local lancer = require "lancer"
   local name, levels = knob.name, knob.levels
-  local ref_value, half, ref_note = reference_plan(knob)
+  if name == "noise" and (base.samples or 1) <= (base.min_samples or 16) then
+    error(("accuracy: knob noise needs samples (the most a pixel takes) above " ..
+           "min_samples = %d, got %d: give --samples"):format(base.min_samples or 16,
+           base.samples or 1), 0)
+  end
+  local ref_value, half, ref_note, ref_samples = reference_plan(knob, base.samples or 1)
   local t0 = os.time()
   local halves, ref_stats = {}, nil
   for i = 1, 2 do
     local o = copy(base)
     o.seed = REF_SEED + i - 1
     set_knob(scene, o, name, half)
+    o.samples = ref_samples or o.samples
     local img, st = plain(scene, o)
     halves[i] = img
     ref_stats = ref_stats or st
@@ -202,7 +243,7 @@ local function sweep(plain, scene, base, knob, seeds)
     L.max_rmse = math.max(table.unpack(L.rmse))
     L.efficiency = 1 / (L.mean_relmse * L.median_seconds)
     r.levels[#r.levels + 1] = L
-    say("%s=%d: %d seeds, RMSE %.4g, %.3f s each", name, level, seeds, L.mean_rmse,
+    say("%s=%g: %d seeds, RMSE %.4g, %.3f s each", name, level, seeds, L.mean_rmse,
         L.median_seconds)
   end
   local best, smallest = r.levels[1], math.huge
@@ -241,7 +282,7 @@ local function table_text(r, label)
   add("%14s %9s %12s %10s %21s %10s %11s", r.knob, "seconds", "rays", "RMSE",
       "RMSE min-max", "relMSE", "efficiency")
   for _, L in ipairs(r.levels) do
-    add("%14d %9.4f %12.0f %10.4g %10.4g-%-10.4g %10.4g %11.4g", L.level,
+    add("%14s %9.4f %12.0f %10.4g %10.4g-%-10.4g %10.4g %11.4g", ("%g"):format(L.level),
         L.median_seconds, L.mean_rays, L.mean_rmse, L.min_rmse, L.max_rmse,
         L.mean_relmse, L.efficiency)
   end
@@ -251,9 +292,9 @@ local function table_text(r, label)
   if same and #r.levels > 1 then
     add("note: every level traced the same rays: nothing in this scene uses %s", r.knob)
   end
-  add("best value: %s=%d (efficiency %.4g per second%s)", r.knob, r.best.level,
+  add("best value: %s=%g (efficiency %.4g per second%s)", r.knob, r.best.level,
       r.best.efficiency, gain < math.huge and r.best ~= r.levels[1] and
-      (", %.2fx %s=%d's"):format(gain, r.knob, r.levels[1].level) or "")
+      (", %.2fx %s=%g's"):format(gain, r.knob, r.levels[1].level) or "")
   return table.concat(out, "\n") .. "\n"
 end
 

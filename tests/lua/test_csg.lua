@@ -412,3 +412,45 @@ T.test("CSG objects nest at most 200 deep", function()
   T.check_error(function() return lancer.union{x} end, HERE,
     "CSG operations nest at most 200 deep, got 201")
 end)
+
+T.test("CSG hits through scene:intersect and uv textures: the leaf's own", function()
+  -- A sphere cut by a box through its centre: the part of the sphere left
+  -- is the sphere's own surface, with the sphere's texture coordinates.
+  local ball = lancer.sphere{center = {0, 0, 0}, radius = 1}
+  local cut = lancer.difference{ball, lancer.box{min = {-2, -2, -2}, max = {2, 2, -0.5}}}
+  local s = lancer.scene{camera = lancer.camera{from = {0, 0, 5}, at = {0, 0, 0}}}
+  local before = s:add(lancer.point_light{position = {0, 3, 5}})
+  s:add(cut)
+  local id = s:objects()[#s:objects()].id
+  local h = s:intersect{origin = {0.3, 0.2, 5}, direction = {0, 0, -1}}
+  local plain = lancer.scene{camera = s.camera}
+  plain:add(ball)
+  local p = plain:intersect{origin = {0.3, 0.2, 5}, direction = {0, 0, -1}}
+  T.eq(h.id, id, "the CSG object's id")
+  T.eq(h.kind, "sphere", "the leaf's kind")
+  T.eq(h.t, p.t, "the sphere's distance")
+  T.eq(h.uv[1], p.uv[1], "u of the sphere"); T.eq(h.uv[2], p.uv[2], "v of the sphere")
+  -- An image over uv on the leaf: each pixel as on the plain sphere.
+  local img = lancer.image{width = 4, height = 2}
+  for y = 1, 2 do for x = 1, 4 do img:set(x, y, x / 4, y / 2, 0.5) end end
+  local m = lancer.material{ka = 1, kd = 0, color = lancer.image_texture{image = img}}
+  local function look(obj)
+    local sc = lancer.scene{camera = lancer.camera{from = {0, 0, 5}, at = {0, 0, 0}},
+                            ambient = 1}
+    sc:add(obj)
+    return sc:render{width = 16, height = 16}
+  end
+  local a = look(lancer.difference{lancer.sphere{center = {0, 0, 0}, radius = 1, material = m},
+                                   lancer.box{min = {-2, -2, -2}, max = {2, 2, -0.5}}})
+  local b = look(lancer.sphere{center = {0, 0, 0}, radius = 1, material = m})
+  T.eq(a:diff(b, 0).max, 0, "the cut sphere's front as the sphere's")
+  -- A pattern in object space on a moved leaf: as on the moved shape alone.
+  local st = lancer.material{ka = 1, kd = 0, color = lancer.stripes{a = {1, 0, 0},
+                             b = {0, 0, 1}, scale = 0.3, mapping = "object"}}
+  local move = lancer.translate(0.45, 0.1, 0) * lancer.rotate({0, 0, 1}, 30)
+  local cyl = lancer.cylinder{base = {0, -0.8, 0}, top = {0, 0.8, 0}, radius = 0.6,
+                              material = st}:moved(move)
+  local c = look(lancer.difference{cyl, lancer.box{min = {5, 5, 5}, max = {6, 6, 6}}})
+  T.eq(c:diff(look(cyl), 0).max, 0, "object space: the moved leaf's own")
+  assert(before, "a light id")
+end)

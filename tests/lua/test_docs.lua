@@ -61,7 +61,8 @@ local NORUN = {
   make = "runs the build or the whole test suite itself (make demo, make test, make bench)",
   apt = "installs system packages",
   ssh = "needs render hosts reachable over ssh",
-  sbatch = "needs a Slurm cluster; the job script itself runs here as task 0",
+  sbatch = "needs a Slurm cluster: test_slurm.lua starts one and runs these blocks there; " ..
+           "here the job script itself runs as task 0",
   listing = "a listing or a formula, not a program",
 }
 
@@ -337,6 +338,7 @@ local function check_norun(b)
   local text = table.concat(b.body, "\n"):gsub("\\\n", " ")
   for line in (text .. "\n"):gmatch("(.-)\n") do
     line = line:gsub("%s+#.*$", "")
+    line = line:gsub("^(%s*)%u[%w_]*=%$%(", "%1")     -- VAR=$(prog ...): prog is the command
     if not line:match("^%s*#") and line:match("%S") then
       local words = {}
       for w in line:gmatch("%S+") do words[#words + 1] = w end

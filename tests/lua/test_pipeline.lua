@@ -112,6 +112,24 @@ T.test("render{alpha}: coverage per pixel, 0, 1/2 and 1 exactly", function()
   T.eq(select(3, plain:pixel(1, 2)), 1.0, "the background, without alpha")
 end)
 
+T.test("an sRGB PNG reads back through the exact sRGB curve, darks included", function()
+  -- libpng's simplified reader went through 8 bits and a 2.2 power: 0.001
+  -- read 0, 0.03 read 0.0235 (8 bits) and 0.0258 (16 bits).
+  local dir = T.temp_dir()
+  local function srgb(v) return v <= 0.0031308 and 12.92 * v or 1.055 * v ^ (1 / 2.4) - 0.055 end
+  local function linear(c) return c <= 0.04045 and c / 12.92 or ((c + 0.055) / 1.055) ^ 2.4 end
+  for _, v in ipairs{0.0004, 0.001, 0.01, 0.03, 0.1, 0.5, 0.9} do
+    local img = lancer.image{width = 1, height = 1, color = {v, v, v}}
+    img:save(dir .. "/8.png")
+    img:save(dir .. "/16.png", {depth = 16})
+    local want8 = linear(math.floor(srgb(v) * 255 + 0.5) / 255)
+    local want16 = linear(math.floor(srgb(v) * 65535 + 0.5) / 65535)
+    T.near(lancer.load_png(dir .. "/8.png"):pixel(1, 1), want8, 1e-7, "8 bits, " .. v)
+    T.near(lancer.load_png(dir .. "/16.png"):pixel(1, 1), want16, 1e-7, "16 bits, " .. v)
+    T.near(want16, v, math.max(2e-5 * v, 1.2e-6), "16 bits keep " .. v)
+  end
+end)
+
 T.test("save and load_exr from Lua: float exact, options checked", function()
   local dir = T.temp_dir()
   local img = lancer.image{width = 3, height = 2, color = {0.1, 2.5, 1e-3}}

@@ -10,8 +10,10 @@
 -- cases have keys too: robust, parity, knobs (T5: cost linear in camera,
 -- cone and light samples, tools/bench/knobs.lua), adaptive (T7: adaptive
 -- sampling against uniform 256 spp, tools/bench/adaptive.lua), embree
--- (lancer's ray queries against Embree's, tools/bench/embree.lua), fixed (the
--- fixed cost of a run beside a frame's trace, tools/bench/fixed.lua).
+-- (lancer's ray queries against Embree's, tools/bench/embree.lua), cornell
+-- (the Cornell box against POV-Ray's radiosity by time to an RMSE,
+-- tools/bench/cornell.lua), fixed (the fixed cost of a run beside a
+-- frame's trace, tools/bench/fixed.lua).
 --
 -- For each case: write the POV-Ray and Tachyon files into out/bench/, then
 -- run lancer, POV-Ray and Tachyon in turn (interleaved, so a noisy spell
@@ -32,6 +34,7 @@ local parity = module("parity")
 local knobs = module("knobs")
 local adaptive = module("adaptive")
 local embree = module("embree")
+local cornell = module("cornell")
 local fixed = module("fixed")
 
 local ROOT = run.output("cd " .. run.quote(here .. "/../..") .. " && pwd")
@@ -260,11 +263,11 @@ for key in pairs(ONLY or {}) do
   local known = false
   for _, case in ipairs(CASES) do known = known or case.key == key end
   known = known or key == "robust" or key == "parity" or key == "knobs" or
-          key == "adaptive" or key == "embree" or key == "fixed"
+          key == "adaptive" or key == "embree" or key == "cornell" or key == "fixed"
   if not known then
     fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m city "
          .. "clusters mixed instances csg "
-         .. "robust parity knobs adaptive embree fixed)", key)
+         .. "robust parity knobs adaptive embree cornell fixed)", key)
   end
 end
 local results = {}
@@ -314,6 +317,11 @@ if not ONLY or ONLY.embree then
   else
     say("%s not found: `make bench` builds it (with Debian's libembree-dev)", RAYCAST)
   end
+end
+if not ONLY or ONLY.cornell then
+  say("Cornell box against POV-Ray's radiosity (time to error)")
+  text = text .. "\n" .. cornell.section{run = run, runstat = RUNSTAT, root = ROOT, out = OUT,
+    threads = THREADS, quick = QUICK, say = say}
 end
 io.write(text)
 io.stdout:flush()                     -- before the last line on stderr
