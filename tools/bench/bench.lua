@@ -1,6 +1,7 @@
 -- bench.lua: `make bench`: lancer, POV-Ray 3.7 and Tachyon 0.99 on BENCH.md's
--- scenes and the CSG scene (scenes/csg.lua, against POV-Ray), and Embree 3 on
--- the same rays (tools/bench/embree.lua).
+-- scenes, the CSG scene (scenes/csg.lua) and the glass-and-checker scene
+-- (scenes/bench/glass.lua), both against POV-Ray, and Embree 3 on the same
+-- rays (tools/bench/embree.lua).
 --
 -- Usage, from anywhere, after `make all build/bin/lc-runstat`:
 --   build/bin/lancer tools/bench/bench.lua [quick] [case ...]
@@ -60,7 +61,7 @@ local PEER_SLOW = 60                  -- s: a peer whose first run is slower run
 
 -- The cases, in the order they run. lancer runs scenes/bench/<script>
 -- with args plus the output path (or `path`, a script elsewhere). tachyon_full:
--- Tachyon only with FULL=1; povray_only: a scene Tachyon cannot draw (CSG).
+-- Tachyon only with FULL=1; povray_only: why Tachyon cannot draw the scene.
 local CASES = {
   {key = "b1", label = "B1 1 spp", scene = scenes.b1, samples = 1,
    script = "b1.lua", args = {"1"}, quick = true},
@@ -89,7 +90,10 @@ local CASES = {
    size = 20, samples = 1, script = "instances.lua", args = {"20"}, class = true},
   -- scenes/csg.lua; Tachyon has no CSG
   {key = "csg", label = "CSG", scene = scenes.csg, samples = 1, path = "scenes/csg.lua",
-   args = {"1"}, quick = true, povray_only = true},
+   args = {"1"}, quick = true, povray_only = "no CSG"},
+  -- Tachyon's transmission rays go on straight: no refraction, no index
+  {key = "glass", label = "Glass + checker", scene = scenes.glass, samples = 1,
+   script = "glass.lua", args = {"1"}, quick = true, povray_only = "no refraction"},
 }
 
 local function say(fmt, ...)            -- progress on stderr; stdout is the table
@@ -167,6 +171,7 @@ local function run_case(case)
       runs = new_runs("missing")
     elseif peer.name ~= "povray" and case.povray_only then
       runs = new_runs("n/a")
+      runs.why = case.povray_only
     elseif peer.name == "tachyon" and case.tachyon_full and not FULL then
       runs = new_runs("skipped")
     else
@@ -266,7 +271,7 @@ for key in pairs(ONLY or {}) do
           key == "adaptive" or key == "embree" or key == "cornell" or key == "fixed"
   if not known then
     fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m city "
-         .. "clusters mixed instances csg "
+         .. "clusters mixed instances csg glass "
          .. "robust parity knobs adaptive embree cornell fixed)", key)
   end
 end

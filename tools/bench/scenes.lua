@@ -10,7 +10,11 @@
 --   camera      {eye = {x,y,z}, target = {x,y,z}, up = {x,y,z}, hfov = degrees}
 --   width, height, depth (mirror bounces), background {r,g,b}
 --   lights      list of {position = {x,y,z}, color = {r,g,b}} (point lights, no falloff)
---   materials   name -> {color = {r,g,b}, ka, kd, ks, n, kr}
+--   materials   name -> {color = {r,g,b}, ka, kd, ks, n, kr}; a material may
+--               instead carry checker = {a = {r,g,b}, b = {r,g,b}, scale}
+--               (cubes of side scale in world space, a where floor(x/scale) +
+--               floor(y/scale) + floor(z/scale) is even) in place of color,
+--               and glass kt (fixed transmission, no Fresnel) with ior
 --   planes      list of {point, normal, material}
 --   boxes       list of {min, max, material} (axis-aligned)
 --   spheres(emit)  calls emit(x, y, z, r, material) for every sphere, in order
@@ -358,6 +362,33 @@ function M.instances(g)
                   {{position = {2 * g, 3 * g, 1.5 * g}, color = {1, 1, 1}}},
                   {instances = {vertices = vertices, faces = faces, material = "p2",
                                 placements = placements}})
+end
+
+-- "glass": after Whitted's 1980 picture, a glass sphere (ior 1.5) and a
+-- mirror sphere over a checker floor, one light, a uniform background;
+-- 5 bounces. The glass is the seed's fixed kr and kt (no Fresnel, kr + kt =
+-- 1, so a total internal reflection sends all of it back in both
+-- renderers); why not Fresnel is in scenes/bench/glass.lua, lancer's
+-- version. The floor is half-way through a layer of the checker's cubes.
+function M.glass()
+  local function m(c, ka, kd, ks, n, kr)
+    return {color = c, ka = ka, kd = kd, ks = ks, n = n, kr = kr}
+  end
+  local glass = m({1, 1, 1}, 0, 0, 0, 0, 0.1)
+  glass.kt, glass.ior = 0.9, 1.5
+  local floor = m(nil, 0.1, 0.8, 0, 0, 0)
+  floor.checker = {a = {0.95, 0.85, 0.1}, b = {0.9, 0.1, 0.05}, scale = 1}
+  return {
+    name = "glass",
+    camera = {eye = {0, 1.7, -6.5}, target = {0, 0.5, 0}, up = {0, 1, 0}, hfov = 55},
+    width = M.WIDTH, height = M.HEIGHT, depth = 5, background = {0.3, 0.5, 0.85},
+    lights = {{position = {-4, 7, -5}, color = {1, 1, 1}}},
+    materials = {floor = floor, mirror = m({1, 1, 1}, 0, 0, 0, 0, 0.9), glass = glass},
+    planes = {{point = {0, -0.5, 0}, normal = {0, 1, 0}, material = "floor"}},
+    boxes = {},
+    spheres = list_emitter{{-0.7, 0.52, -1.0, 1.0, "glass"},
+                           {1.6, 0.62, 1.2, 1.1, "mirror"}},
+  }
 end
 
 -- The grid's vertex (i, j), 0-based: x_i = -50 + 100 i/Q, z_j likewise.

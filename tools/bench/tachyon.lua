@@ -125,6 +125,13 @@ end
 -- Writes scene to path (through path .. ".tmp", renamed at the end, so a
 -- file that exists is complete). grid is scenes.grid_vertex.
 function T.write(scene, path, grid)
+  for name, m in pairs(scene.materials) do
+    -- Tachyon's transmission ray goes on along the incident ray and its
+    -- .dat has no index of refraction: glass is beyond it. (The writer has
+    -- no checker either: the only scene with one has glass.)
+    assert(not m.kt and not m.checker, "tachyon.lua: material '" .. name ..
+           "' has kt or a checker, which this writer cannot say")
+  end
   local tmp = path .. ".tmp"
   local f = assert(io.open(tmp, "w"))
   write_header(f, scene)
