@@ -9,7 +9,7 @@
 #include "mem.h"
 
 #define BINS 16
-#define MIN_LEAF 4        /* fewer is always a leaf: nodes cost memory too */
+#define MIN_LEAF 4        /* costing no more is always a leaf: nodes cost memory too */
 #define MAX_LEAF 8        /* a leaf never holds more, unless the prims cannot be split */
 #define TRAVERSAL_COST 0.5f  /* one node visit, relative to one primitive test */
 
@@ -58,12 +58,15 @@ void bvh_bounds_exact(float lo[3], float hi[3], const double p[3])
     }
 }
 
+/* next_toward (vec.h) for libm's nextafter: the same double for every
+** finite c, without the call, which was a sixth of building 100k spheres'
+** hierarchy (callgrind, scenes/bench/clusters.lua). */
 void bvh_bounds_grow(float lo[3], float hi[3], lc_vec3 p)
 {
     double c[3] = {p.x, p.y, p.z};
     for (int k = 0; k < 3; k++) {
-        float a = bvh_down(nextafter(c[k], -HUGE_VAL));
-        float b = bvh_up(nextafter(c[k], HUGE_VAL));
+        float a = bvh_down(next_toward(c[k], -1));
+        float b = bvh_up(next_toward(c[k], 1));
         if (a < lo[k]) lo[k] = a;
         if (b > hi[k]) hi[k] = b;
     }
@@ -112,6 +115,7 @@ typedef struct {
     int    failed;               /* out of memory, or cancelled */
     int    cancelled;
     sig_atomic_t seen;           /* interrupt_count() when the build began */
+    const float *cost;           /* an item's test cost by id >> 28; NULL: all 1 */
 } builder;
 
 /* Polled every 256 nodes and before each pass over many items: a Ctrl-C
@@ -137,6 +141,12 @@ static uint32_t new_node(builder *bd)
         bd->cap = nc;
     }
     return (uint32_t)b->nnodes++;
+}
+
+/* What testing the item costs, in units of a sphere or triangle test. */
+static float item_cost(const builder *bd, const item *it)
+{
+    return bd->cost ? bd->cost[it->id >> 28] : 1;
 }
 
 static float centroid(const item *it, int k) { return 0.5f * it->lo[k] + 0.5f * it->hi[k]; }
@@ -190,41 +200,61 @@ static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bound
     if (ext[1] > ext[axis]) axis = 1;
     if (ext[2] > ext[axis]) axis = 2;
 
-    int leaf = n <= MIN_LEAF || depth >= BVH_MAX_DEPTH;
+    /* A few items costing no more than MIN_LEAF unit tests are a leaf;
+    ** costlier ones (instances, curved placed shapes) are left to the SAH,
+    ** which parts them when a node test is cheaper. All items of cost 1
+    ** give the tree the counts alone gave. */
+    int leaf = depth >= BVH_MAX_DEPTH;
+    if (!leaf && n <= MIN_LEAF) {
+        float w = 0;
+        for (size_t i = begin; i < end; i++)
+            w += item_cost(bd, &items[i]);
+        leaf = w <= MIN_LEAF;
+    }
     size_t mid = begin;
     box3 lb, rb, lcb, rcb;
     int measured = 0;
     if (!leaf && ext[axis] > 0) {
         float scale = BINS / ext[axis];
+        /* Bins weigh their items by cost (double: sums of 1 stay exact
+        ** counts, so unit costs give the planes counts gave). */
         size_t count[BINS] = {0};
+        double weight[BINS] = {0};
         box3 bin[BINS];
         for (int i = 0; i < BINS; i++)
             box_empty(&bin[i]);
         for (size_t i = begin; i < end; i++) {
             int bi = bin_of(&items[i], axis, cb.lo[axis], scale);
             count[bi]++;
+            weight[bi] += item_cost(bd, &items[i]);
             box_grow(&bin[bi], items[i].lo, items[i].hi);
         }
         float rarea[BINS];
+        double rweight[BINS], w = 0;
         size_t rcount[BINS], cnt = 0;
         box3 acc;
         box_empty(&acc);
         for (int i = BINS - 1; i > 0; i--) {
             box_grow(&acc, bin[i].lo, bin[i].hi);
             cnt += count[i];
+            w += weight[i];
             rarea[i] = box_area(&acc);
             rcount[i] = cnt;
+            rweight[i] = w;
         }
+        double total = w + weight[0];
         box_empty(&acc);
         cnt = 0;
+        w = 0;
         float best = INFINITY;
         int split = -1;
         for (int i = 0; i < BINS - 1; i++) {
             box_grow(&acc, bin[i].lo, bin[i].hi);
             cnt += count[i];
+            w += weight[i];
             if (cnt == 0 || rcount[i + 1] == 0)
                 continue;
-            float c = box_area(&acc) * cnt + rarea[i + 1] * rcount[i + 1];
+            float c = box_area(&acc) * (float)w + rarea[i + 1] * (float)rweight[i + 1];
             if (c < best) {
                 best = c;
                 split = i;
@@ -232,7 +262,7 @@ static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bound
         }
         float area = box_area(&bounds);
         float cost = area > 0 ? TRAVERSAL_COST + best / area : INFINITY;
-        if (split >= 0 && !(cost >= (float)n && n <= MAX_LEAF)) {
+        if (split >= 0 && !(cost >= (float)total && n <= MAX_LEAF)) {
             box_empty(&lb);
             box_empty(&rb);
             box_empty(&lcb);
@@ -325,6 +355,12 @@ static void clamp_bounds(item *items, size_t n)
 lc_status bvh_build(bvh *out, bvh_item *items, size_t n, sig_atomic_t interrupts_seen,
                     lc_error *err)
 {
+    return bvh_build_costed(out, items, n, NULL, interrupts_seen, err);
+}
+
+lc_status bvh_build_costed(bvh *out, bvh_item *items, size_t n, const float *cost,
+                           sig_atomic_t interrupts_seen, lc_error *err)
+{
     memset(out, 0, sizeof *out);
     if (n == 0) {
         mem_free(items);
@@ -335,7 +371,7 @@ lc_status bvh_build(bvh *out, bvh_item *items, size_t n, sig_atomic_t interrupts
         return error_fail(err, LC_EARG, NULL, "too many primitives: %zu", n);
     }
     tree2 tree = {NULL, 0}, *b = &tree;
-    builder bd = {b, n / 3 + 64, items, 0, 0, interrupts_seen};
+    builder bd = {b, n / 3 + 64, items, 0, 0, interrupts_seen, cost};
     clamp_bounds(items, n);
     b->nodes = mem_alloc(bd.cap * sizeof *b->nodes);
     if (!b->nodes) {
@@ -390,6 +426,7 @@ lc_status bvh_build(bvh *out, bvh_item *items, size_t n, sig_atomic_t interrupts
         right.bd.cap = (n - mid) / 3 + 64;
         right.bd.items = items;
         right.bd.seen = interrupts_seen;
+        right.bd.cost = cost;
         right.begin = mid;
         right.end = n;
         measure(&bd, 0, mid, &lb, &lcb);

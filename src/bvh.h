@@ -49,6 +49,10 @@ typedef struct {
 ** hundred nodes and every pass over many items). */
 lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_seen,
                     lc_error *err);
+/* The same, each item weighed by what testing it costs: cost[id >> 28], in
+** units of one sphere or triangle test (bvh_build: all 1). */
+lc_status bvh_build_costed(bvh *b, bvh_item *items, size_t n, const float *cost,
+                           sig_atomic_t interrupts_seen, lc_error *err);
 void      bvh_free(bvh *b);
 
 /* The binary tree the build makes (bvh.c), before bvh_collapse (bvh_wide.c)
@@ -333,9 +337,10 @@ ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx
     }
 }
 
-/* A hierarchy of one leaf (a scene of a few bounded shapes, as B1's three
-** spheres and a box): its box tested inline, then the leaf, as the binary
-** tree did, without the call and set-up of a traversal. */
+/* A hierarchy of one leaf (a scene of a few bounded shapes weighing at
+** most MIN_LEAF, bvh.c: four spheres, or two and a box): its box tested
+** inline, then the leaf, as the binary tree did, without the call and
+** set-up of a traversal. */
 static inline int bvh_lone_leaf(const bvh *b)
 {
     return b->lone;

@@ -55,6 +55,24 @@ static lc_status list_triangles(lc_scene *s, sig_atomic_t seen, lc_error *err)
     return instance_compile(s, seen, err);
 }
 
+/* What a leaf test of each primitive kind costs, in units of a sphere,
+** quad or triangle test (each 50-70 instructions, callgrind), for the
+** BVH's surface area heuristic. Measured on scenes/bench/mixed.lua and
+** instances.lua: a cylinder test 260 instructions (the ray brought into
+** its canonical space, then the quadratic), an instance 550 (the ray
+** moved, the mesh's own walk and triangles). A leaf of four such is a
+** leaf of 16 to 32 unit tests; weighed, the build parts them. A box test
+** is 75 instructions to a sphere's 67 (B1), but boxes weigh 2, which
+** makes leaves of two: tuned on scenes/bench/city.lua (rays grazing rows
+** of roofs), 9.7 % fewer trace instructions than at 1, B1 1.6 % fewer,
+** for 1.7 times the city's nodes (0.3 MB). Spheres and triangles stay at
+** 1: leaves of two would cost B2 1M and B3 4M 16 and 60 MB of nodes. */
+static const float prim_cost[16] = {
+    [PRIM_SPHERE] = 1, [PRIM_QUAD] = 1, [PRIM_BOX] = 2, [PRIM_TRIANGLE] = 1,
+    [PRIM_PLANE] = 1, [PRIM_INSTANCE] = 8, [PRIM_DISC] = 2, [PRIM_CYLINDER] = 4,
+    [PRIM_CONE] = 4, [PRIM_TORUS] = 8, [PRIM_ELLIPSOID] = 3, [PRIM_CSG] = 8,
+    [PRIM_CSG_FACE] = 1, [PRIM_CSG_CUT] = 1, [15] = 1};
+
 static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
 {
     compiled *c = &s->c;
@@ -95,7 +113,7 @@ static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
         it->id = PRIM_ID(PRIM_CSG, i);
         csg_bounds(s->csgs[i], it->lo, it->hi);
     }
-    return bvh_build(&c->bvh, items, n, seen, err);
+    return bvh_build_costed(&c->bvh, items, n, prim_cost, seen, err);
 }
 
 /* A material reflects through a cone when it has one wider than an ulp of a

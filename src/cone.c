@@ -84,9 +84,14 @@ void cone_prepare(const lc_shape *s, placed_geom *g)
     double big = fmax(s->radius, s->radius2);
     g->k0 = s->radius / big;
     g->k1 = s->radius2 / big;
-    g->area = placed_patch_area(g, side, 64);
-    if (s->caps)
-        g->area += placed_patch_area(g, bottom, 8) + placed_patch_area(g, top, 8);
+}
+
+double cone_area(const placed_geom *g)
+{
+    double a = placed_patch_area(g, side, 64);
+    if (g->shape.caps)
+        a += placed_patch_area(g, bottom, 8) + placed_patch_area(g, top, 8);
+    return a;
 }
 
 /* The side: x^2 + y^2 - r(z)^2 = 0 along the ray, A s^2 + 2 B s + C = 0,

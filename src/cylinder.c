@@ -60,9 +60,14 @@ void cylinder_prepare(const lc_shape *s, placed_geom *g)
 {
     lc_transform t = to_shape(s);
     placed_make(s, &t, g, NULL);
-    g->area = placed_patch_area(g, side, 64);
-    if (s->caps)
-        g->area += 2 * placed_patch_area(g, bottom, 8);
+}
+
+double cylinder_area(const placed_geom *g)
+{
+    double a = placed_patch_area(g, side, 64);
+    if (g->shape.caps)
+        a += 2 * placed_patch_area(g, bottom, 8);
+    return a;
 }
 
 /* The nearest of the side's roots and the caps' in (lo, hi); *part says

@@ -48,7 +48,11 @@ void disc_prepare(const lc_shape *s, placed_geom *g)
     lc_transform t = to_shape(s);
     placed_make(s, &t, g, NULL);
     g->k0 = s->radius2 / s->radius;
-    g->area = placed_patch_area(g, patch, 8);     /* planar: exact at any n */
+}
+
+double disc_area(const placed_geom *g)
+{
+    return placed_patch_area(g, patch, 8);        /* planar: exact at any n */
 }
 
 /* The plane z = 0 (exact for an origin on it: no hit), then the ring. */

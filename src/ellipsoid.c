@@ -42,7 +42,11 @@ void ellipsoid_prepare(const lc_shape *s, placed_geom *g)
 {
     lc_transform t = to_shape(s);
     placed_make(s, &t, g, NULL);
-    g->area = placed_patch_area(g, patch, 64);
+}
+
+double ellipsoid_area(const placed_geom *g)
+{
+    return placed_patch_area(g, patch, 64);
 }
 
 static const sphere_geom unit = {{0, 0, 0}, 1, 1, 1};

@@ -179,8 +179,8 @@ static void threshold_init(void)
     }
 }
 
-/* Clamped to [0, 1] (NaN reads as 0), encoded, rounded to nearest. */
-uint8_t lc_encode_channel(float linear, lc_encoding enc)
+/* lc_encode_channel once the tables are made. */
+static inline uint8_t encode8(float linear, lc_encoding enc)
 {
     double v = linear;
     if (!(v > 0))
@@ -189,11 +189,24 @@ uint8_t lc_encode_channel(float linear, lc_encoding enc)
         return 255;
     if (enc == LC_ENCODE_LINEAR)
         return (uint8_t)(v * 255 + 0.5);
-    pthread_once(&threshold_once, threshold_init);
     int k = start[(int)(v * 4096)];  /* the answer is the count of thresholds <= v */
     while (threshold[k] <= v)
         k++;
     return (uint8_t)k;
+}
+
+/* Clamped to [0, 1] (NaN reads as 0), encoded, rounded to nearest. */
+uint8_t lc_encode_channel(float linear, lc_encoding enc)
+{
+    pthread_once(&threshold_once, threshold_init);
+    return encode8(linear, enc);
+}
+
+void image_encode8(const float *linear, size_t n, lc_encoding enc, uint8_t *out)
+{
+    pthread_once(&threshold_once, threshold_init);
+    for (size_t i = 0; i < n; i++)
+        out[i] = encode8(linear[i], enc);
 }
 
 uint16_t image_encode16(float linear, lc_encoding enc)

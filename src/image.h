@@ -16,5 +16,8 @@ struct lc_image {
 
 /* Clamped to [0, 1] (NaN reads as 0), encoded, rounded to nearest 16 bits. */
 uint16_t image_encode16(float linear, lc_encoding enc);
+/* lc_encode_channel over linear[0, n), into out: a row at a time, so the
+** check that its tables are made is paid once a row, not once a value. */
+void     image_encode8(const float *linear, size_t n, lc_encoding enc, uint8_t *out);
 
 #endif

@@ -395,20 +395,32 @@ static void add_csg(lua_State *L, int idx, int arg, const lc_transform *t)
 ** for any OBJ file seen; more take lc_scene_add_mesh_materials from C. */
 #define PALETTE_MAX 4096
 
+/* Adds the shape sh, the userdata at idx, moved by t (NULL: as it is), to
+** the scene at 1, whose userdata is u: its core pointer is read again after
+** the material's lookup, which may run Lua code (scene_at's comment). */
+static void add_shape(lua_State *L, ud_scene *u, const ud_shape *sh, int idx, int arg,
+                      const lc_transform *t)
+{
+    lc_error err;
+    lc_shape moved = sh->s;
+    if (t && lc_shape_transform(&sh->s, t, &moved, &err))
+        lf_raise(L, arg, &err);
+    lua_getiuservalue(L, idx, 1);
+    int mat = material_index(L, 1, lua_gettop(L), arg);
+    lua_pop(L, 1);
+    if (!u->s)
+        luaL_argerror(L, 1, "lancer.Scene already freed");     /* as scene_check */
+    if (lc_scene_add_shape(u->s, &moved, mat, &err) < 0)
+        lf_raise(L, arg, &err);
+}
+
 static void add_one(lua_State *L, int idx, int arg, int xf)
 {
     lc_error err;
     const lc_transform *t = xf_at(L, xf);
     ud_shape *sh = luaL_testudata(L, idx, SHAPE);
     if (sh) {
-        lc_shape moved = sh->s;
-        if (t && lc_shape_transform(&sh->s, t, &moved, &err))
-            lf_raise(L, arg, &err);
-        lua_getiuservalue(L, idx, 1);
-        int mat = material_index(L, 1, lua_gettop(L), arg);
-        lua_pop(L, 1);
-        if (lc_scene_add_shape(scene_at(L, 1), &moved, mat, &err) < 0)
-            lf_raise(L, arg, &err);
+        add_shape(L, lua_touserdata(L, 1), sh, idx, arg, t);
         return;
     }
     ud_light *li = luaL_testudata(L, idx, LIGHT);
@@ -460,13 +472,30 @@ static void add_one(lua_State *L, int idx, int arg, int xf)
     lua_pop(L, 2);
 }
 
+/* scene:add's upvalues: the metatables its fast path tests for. */
+#define UP_SHAPE lua_upvalueindex(1)
+#define UP_SCENE lua_upvalueindex(2)
+
 static int w_scene_add(lua_State *L)
 {
-    scene_check(L, 1);
+    ud_scene *u = udata_is(L, 1, UP_SCENE);
+    if (!u || !u->s)
+        u = scene_check(L, 1);                     /* raises */
     int n = lua_gettop(L);
     if (n < 2)
         return luaL_argerror(L, 2, "shape, mesh, light, group, CSG object or array of "
                              "them expected, got no value");
+    /* One shape alone, the common call (a script adding a million spheres
+    ** one at a time): nothing to flatten, move or re-check, as nothing runs
+    ** Lua code before add_shape fetches the scene again; the list would
+    ** cost a table and its growth per call, a third of the call's time. */
+    const ud_shape *one = n == 2 ? udata_is(L, 2, UP_SHAPE) : NULL;
+    if (one) {
+        add_shape(L, u, one, 2, 2, NULL);
+        lua_settop(L, 1);
+        lancer_charge(L);
+        return 1;
+    }
     lua_newtable(L);
     int flat = n + 1;
     flat_list fl = {flat, 0, 0};
@@ -589,8 +618,22 @@ static int w_scene_tostring(lua_State *L)
     return 1;
 }
 
+/* __index's upvalues: the scene metatable and its methods table. */
+#define UP_META    lua_upvalueindex(1)
+#define UP_METHODS lua_upvalueindex(2)
+
 static int w_scene_index(lua_State *L)
 {
+    /* A method first, the common look-up (scene:add a million times): by
+    ** the key's own string, raw, in the table held here, a sixth of the
+    ** by-name look-ups below (callgrind). No method shares a field's name,
+    ** so the answer is the one the fields-first order gives. */
+    if (udata_is(L, 1, UP_META)) {
+        lua_pushvalue(L, 2);
+        if (lua_rawget(L, UP_METHODS) != LUA_TNIL)
+            return 1;
+        lua_pop(L, 1);
+    }
     ud_scene *u = luaL_checkudata(L, 1, SCENE);
     const char *k = luaL_checkstring(L, 2);
     if (!u->s) {             /* closed: methods still resolve, and raise there */
@@ -670,11 +713,22 @@ void scene_register(lua_State *L)
 {
     static const luaL_Reg scene_meta[] = {
         {"__gc", w_scene_free}, {"__close", w_scene_free}, {"__tostring", w_scene_tostring},
-        {"__index", w_scene_index}, {"__newindex", w_scene_newindex}, {NULL, NULL}};
+        {"__newindex", w_scene_newindex}, {NULL, NULL}};
     static const luaL_Reg scene_methods[] = {
-        {"add", w_scene_add}, {"count", w_scene_count},
+        {"count", w_scene_count},
         {"transformed", w_scene_transformed}, {NULL, NULL}};
     lancer_class(L, SCENE, scene_meta, scene_methods);
+    luaL_getmetatable(L, SCENE);
+    lua_getfield(L, -1, "methods");
+    luaL_getmetatable(L, SHAPE);                   /* add, with its upvalues */
+    lua_pushvalue(L, -3);
+    lua_pushcclosure(L, w_scene_add, 2);
+    lua_setfield(L, -2, "add");
+    lua_pushvalue(L, -2);                          /* __index, with its upvalues */
+    lua_pushvalue(L, -2);
+    lua_pushcclosure(L, w_scene_index, 2);
+    lua_setfield(L, -3, "__index");
+    lua_pop(L, 2);
     lua_pushcfunction(L, w_scene);
     lua_setfield(L, -2, "scene");
 }

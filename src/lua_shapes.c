@@ -1,4 +1,5 @@
 /* lua_shapes.c: the Lua side of shapes: constructors over per-kind field tables. */
+#include <math.h>
 #include <stddef.h>
 #include <string.h>
 #include <lauxlib.h>
@@ -121,13 +122,123 @@ static int shape_push_checked(lua_State *L, const lc_shape *s)
     return 1;
 }
 
+/* The constructors' upvalues: the metatables they set and test for. */
+#define UP_SHAPE    lua_upvalueindex(1)
+#define UP_MATERIAL lua_upvalueindex(2)
+
+/* shapes_push, with the shape metatable at stack index mt. */
+static void push_shape(lua_State *L, const lc_shape *s, int mat, int mt)
+{
+    mat = lua_absindex(L, mat);
+    mt = lua_absindex(L, mt);
+    ud_shape *u = lua_newuserdatauv(L, sizeof *u, 1);
+    u->s = *s;
+    lua_pushvalue(L, mat);
+    lua_setiuservalue(L, -2, 1);
+    lua_pushvalue(L, mt);
+    lua_setmetatable(L, -2);
+}
+
+/* A vector read as lf_to_vec3 reads it, from a plain table (no metatable,
+** so nothing runs): 0 when it is not one, or not 3 finite numbers. */
+static int plain_vec3(lua_State *L, int idx, lc_vec3 *out)
+{
+    if (lua_type(L, idx) != LUA_TTABLE || lua_getmetatable(L, idx)) {
+        if (lua_type(L, idx) == LUA_TTABLE)
+            lua_pop(L, 1);
+        return 0;
+    }
+    if (lua_rawlen(L, idx) != 3)
+        return 0;
+    double c[3];
+    for (int i = 0; i < 3; i++) {
+        int t = lua_rawgeti(L, idx, i + 1);
+        c[i] = lua_tonumber(L, -1);
+        lua_pop(L, 1);
+        if (t != LUA_TNUMBER || !isfinite(c[i]))
+            return 0;
+    }
+    *out = (lc_vec3){c[0], c[1], c[2]};
+    return 1;
+}
+
+/* Reads the kind's fields and material from the table at 1 in one pass,
+** when it is plain: string keys the kind knows, every value of its type
+** and finite, vectors plain tables, every required field there, no
+** metatable (whose __index the field reads would ask). Then s holds the
+** fields and index 2 the material (or nil), and no Lua code has run.
+** Otherwise it returns 0, and the constructor reads the table as before
+** (shape_open, shape_read, shape_push_checked), which raises the error it
+** always did: the pass reads what is right, never what is wrong. */
+static int shape_read_plain(lua_State *L, lc_shape *s)
+{
+    if (lua_type(L, 1) != LUA_TTABLE || lua_getmetatable(L, 1))
+        return 0;              /* (a metatable stays pushed: the caller resets) */
+    lua_settop(L, 1);
+    lua_pushnil(L);                                  /* 2: the material */
+    const shape_field *fields = kind_fields[s->kind];
+    unsigned seen = 0;
+    lua_pushnil(L);
+    while (lua_next(L, 1)) {
+        if (lua_type(L, -2) != LUA_TSTRING)
+            return 0;
+        const char *k = lua_tostring(L, -2);
+        int i = 0;
+        while (fields[i].name && (fields[i].name[0] != k[0] || strcmp(fields[i].name, k)))
+            i++;
+        const shape_field *f = &fields[i];
+        int t = lua_type(L, -1);
+        if (!f->name) {
+            if (strcmp(k, "material") || !udata_is(L, -1, UP_MATERIAL))
+                return 0;
+            lua_copy(L, -1, 2);
+        } else if (f->type == FIELD_VEC3) {
+            if (!plain_vec3(L, -1, vec3_of(s, f)))
+                return 0;
+        } else if (f->type == FIELD_BOOL) {
+            if (t != LUA_TBOOLEAN)
+                return 0;
+            *int_of(s, f) = lua_toboolean(L, -1);
+        } else {
+            double x = lua_tonumber(L, -1);
+            if (t != LUA_TNUMBER || !isfinite(x))
+                return 0;
+            *number_of(s, f) = x;
+        }
+        seen |= 1u << i;
+        lua_pop(L, 1);
+    }
+    for (int i = 0; fields[i].name; i++)
+        if (!(seen & 1u << i)) {
+            const shape_field *f = &fields[i];
+            if (!f->optional)
+                return 0;
+            if (f->type == FIELD_BOOL)
+                *int_of(s, f) = (int)f->def;
+            else if (f->type == FIELD_NUMBER)
+                *number_of(s, f) = f->def;
+        }
+    return 1;
+}
+
 /* lancer.<kind>{its fields, material = }: every field required. */
 static int shape_new(lua_State *L, lc_shape_kind kind)
 {
-    shape_open(L, kind, NULL);
     lc_shape s;
     memset(&s, 0, sizeof s);
     s.kind = kind;
+    if (shape_read_plain(L, &s)) {
+        lc_error err;
+        if (lc_shape_check(&s, &err))
+            return lf_raise(L, 1, &err);
+        push_shape(L, &s, 2, UP_SHAPE);
+        return 1;
+    }
+    if (lua_gettop(L) > 1)          /* not to 1: no argument stays "no value" */
+        lua_settop(L, 1);
+    memset(&s, 0, sizeof s);
+    s.kind = kind;
+    shape_open(L, kind, NULL);
     shape_read(L, &s, NULL);
     return shape_push_checked(L, &s);
 }
@@ -200,11 +311,9 @@ static int w_cone(lua_State *L) { return axial(L, LC_CONE); }
 void shapes_push(lua_State *L, const lc_shape *s, int mat)
 {
     mat = lua_absindex(L, mat);
-    ud_shape *u = lua_newuserdatauv(L, sizeof *u, 1);
-    u->s = *s;
-    lua_pushvalue(L, mat);
-    lua_setiuservalue(L, -2, 1);
-    luaL_setmetatable(L, SHAPE);
+    luaL_getmetatable(L, SHAPE);
+    push_shape(L, s, mat, -1);
+    lua_remove(L, -2);
 }
 
 int shapes_match(const lc_shape *added, const lc_shape *listed)
@@ -288,5 +397,7 @@ void shapes_register(lua_State *L)
         {"disc", w_disc}, {"cylinder", w_cylinder}, {"cone", w_cone}, {"torus", w_torus},
         {"ellipsoid", w_ellipsoid}, {NULL, NULL}};
     lancer_class(L, SHAPE, shape_meta, NULL);
-    luaL_setfuncs(L, funcs, 0);
+    luaL_getmetatable(L, SHAPE);                   /* UP_SHAPE */
+    luaL_getmetatable(L, MATERIAL);                /* UP_MATERIAL: objects_register's */
+    luaL_setfuncs(L, funcs, 2);
 }

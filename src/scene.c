@@ -184,6 +184,8 @@ int lc_scene_add_shape(lc_scene *s, const lc_shape *sh, int material, lc_error *
     size_t i = l->n++;
     void *geom = l->geom + i * l->size;
     shape_prepare(sh, geom);
+    if (emits)
+        shape_prepare_emitter(sh->kind, geom);
     l->material[i] = material;
     l->id[i] = s->next_id;
     if (emits) {

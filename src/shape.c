@@ -118,6 +118,19 @@ lc_status lc_shape_stored(const lc_shape *s, lc_shape *out, lc_error *err)
     return LC_OK;
 }
 
+void shape_prepare_emitter(lc_shape_kind k, void *geom)
+{
+    placed_geom *g = geom;
+    switch (k) {
+    case LC_DISC: g->area = disc_area(g); break;
+    case LC_CYLINDER: g->area = cylinder_area(g); break;
+    case LC_CONE: g->area = cone_area(g); break;
+    case LC_TORUS: g->area = torus_area(g); break;
+    case LC_ELLIPSOID: g->area = ellipsoid_area(g); break;
+    default: break;                             /* spheres, quads, boxes: closed forms */
+    }
+}
+
 void shape_prepare(const lc_shape *s, void *geom)
 {
     switch (s->kind) {

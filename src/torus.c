@@ -46,7 +46,11 @@ void torus_prepare(const lc_shape *s, placed_geom *g)
     lc_transform t = to_shape(s);
     placed_make(s, &t, g, NULL);
     g->k0 = s->radius2 / s->radius;
-    g->area = placed_patch_area(g, patch, 64);
+}
+
+double torus_area(const placed_geom *g)
+{
+    return placed_patch_area(g, patch, 64);
 }
 
 /* ---- the quartic ------------------------------------------------------------------ */

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
+#include "mem.h"
 #include "scene.h"
 
 #define M_PI 3.14159265358979323846
@@ -115,6 +116,63 @@ static void bvh_matches_brute_force(void **state)
     lc_scene_free(s);
 }
 
+/* Items the builder owns (it frees them with mem_free): n copies of src. */
+static bvh_item *owned_items(const bvh_item *src, size_t n)
+{
+    bvh_item *it = mem_alloc(n * sizeof *it);
+    assert_non_null(it);
+    memcpy(it, src, n * sizeof *it);
+    return it;
+}
+
+/* The costed build: four unit boxes in a row are one leaf, as MIN_LEAF
+** says; the same four weighed 8 each (instances) are four leaves, one
+** item each. All costs 1 give bvh_build's tree, node for node. */
+static void costed_build_parts_costly_leaves(void **state)
+{
+    (void)state;
+    lc_error err;
+    bvh_item row[4];
+    for (uint32_t i = 0; i < 4; i++) {
+        float x = 3.0f * (float)i;
+        row[i] = (bvh_item){{x, 0, 0}, {x + 1, 1, 1}, PRIM_ID(PRIM_INSTANCE, i)};
+    }
+    float unit[16], costly[16];
+    for (int k = 0; k < 16; k++)
+        unit[k] = costly[k] = 1;
+    costly[PRIM_INSTANCE] = 8;
+    bvh a, b;
+    assert_int_equal(bvh_build_costed(&a, owned_items(row, 4), 4, unit, 0, &err), LC_OK);
+    assert_int_equal(bvh_build_costed(&b, owned_items(row, 4), 4, costly, 0, &err), LC_OK);
+    assert_int_equal(a.lone, 1);
+    assert_int_equal(a.nodes[0].count[0], 4);
+    assert_int_equal(b.lone, 0);
+    assert_int_equal(b.nodes[0].n, 4);
+    for (int c = 0; c < 4; c++)
+        assert_int_equal(b.nodes[0].count[c], 1);
+    bvh_free(&a);
+    bvh_free(&b);
+
+    size_t n = 20000;
+    bvh_item *many = malloc(n * sizeof *many);
+    assert_non_null(many);
+    for (size_t i = 0; i < n; i++) {
+        float c[3] = {(float)(100 * rnd()), (float)(100 * rnd()), (float)(100 * rnd())};
+        float r = (float)(0.1 + rnd());
+        many[i] = (bvh_item){{c[0] - r, c[1] - r, c[2] - r}, {c[0] + r, c[1] + r, c[2] + r},
+                             PRIM_ID(i % 2 ? PRIM_SPHERE : PRIM_BOX, i)};
+    }
+    assert_int_equal(bvh_build(&a, owned_items(many, n), n, 0, &err), LC_OK);
+    assert_int_equal(bvh_build_costed(&b, owned_items(many, n), n, unit, 0, &err), LC_OK);
+    assert_int_equal(a.nnodes, b.nnodes);
+    assert_true(a.nnodes > 1000);
+    assert_memory_equal(a.nodes, b.nodes, a.nnodes * sizeof *a.nodes);
+    assert_memory_equal(a.refs, b.refs, n * sizeof *a.refs);
+    bvh_free(&a);
+    bvh_free(&b);
+    free(many);
+}
+
 /* A closed UV sphere; rays aimed exactly at its vertices and at points of its
 ** edges from outside must all hit (Woop: shared edges are computed alike). */
 static void mesh_is_watertight(void **state)
@@ -217,6 +275,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(bvh_matches_brute_force),
+        cmocka_unit_test(costed_build_parts_costly_leaves),
         cmocka_unit_test(mesh_is_watertight),
         cmocka_unit_test(degenerate_triangles_are_skipped),
         cmocka_unit_test(mesh_rejects_bad_input),

@@ -36,6 +36,8 @@ return {
   ["scenes/bench/b2.lua 300 @48x36x1"] = "7f6b4053cf8604f3",
   ["scenes/bench/b3.lua 24 @32x24x4"] = "498c16582c44a234",
   ["scenes/bench/b3.lua 24 @48x36x1"] = "6a275edcb7c9a5b7",
+  ["scenes/bench/glass.lua 1 @32x24x4"] = "58907ecf959db0ee",
+  ["scenes/bench/glass.lua 1 @48x36x1"] = "da42fc439addb7ca",
   ["scenes/bench/s7.lua - 32 1 1 @32x24x4"] = "0a6e2abb8c2ed783",
   ["scenes/bench/s7.lua - 32 1 1 @48x36x1"] = "0083a83f02306c02",
   ["scenes/cornell.lua @32x24x4"] = "0ee945c27aa3e6b0",

@@ -20,6 +20,7 @@ local function scripts()
   list[#list + 1] = {"scenes/bench/b2.lua", {"300"}}
   list[#list + 1] = {"scenes/bench/b3.lua", {"24"}}
   list[#list + 1] = {"scenes/bench/s7.lua", {"-", "32", "1", "1"}}
+  list[#list + 1] = {"scenes/bench/glass.lua", {"1"}}
   return list
 end
 

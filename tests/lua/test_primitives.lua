@@ -218,3 +218,65 @@ T.test("new constructors refuse bad fields, naming them", function()
   E(function() lancer.cylinder{base = {0, 0, 0}, axis = {0, 1, 0}, radius = 1}:moved(
     lancer.scale(1e31)) end, "coordinate range")
 end)
+
+-- The constructors read a plain table (no metatable, plain vectors) in one
+-- pass and fall back to the field-by-field reading for anything else; a
+-- metatable on the table takes the fallback, so the two readings of the
+-- same fields can be compared: the same shape, or the same error.
+T.test("constructors: a plain table reads as the field-by-field reading does", function()
+  local mat = lancer.material{color = {0.2, 0.4, 0.6}}
+  local kinds = {
+    sphere = {center = {1, 2, 3}, radius = 0.5},
+    quad = {corner = {0, 0, 0}, u = {1, 0, 0}, v = {0, 2, 0}},
+    plane = {point = {0, -1, 0}, normal = {0, 1, 0}},
+    disc = {center = {0, 1, 0}, normal = {0, 0, 1}, radius = 2, inner_radius = 0.5},
+    torus = {center = {0, 0, 0}, axis = {0, 1, 0}, major = 1, minor = 0.25},
+    ellipsoid = {center = {0, 0, 0}, radii = {1, 2, 3}},
+  }
+  local bad = {"1", true, {1, 2}, {1, 2, 3, 4}, {1, "2", 3}, {0 / 0, 0, 0}, {1, 2, 1 / 0},
+               0 / 0, 1 / 0, -1, 0, {}, setmetatable({1, 2, 3}, {}), mat}
+  local function copy(t)
+    local c = {}
+    for k, v in pairs(t) do c[k] = v end
+    return c
+  end
+  local function outcome(kind, fields)
+    local ok, s = pcall(lancer[kind], fields)
+    if not ok then return "error: " .. tostring(s) end
+    return tostring(s) .. (rawequal(s.material, mat) and " +mat" or "")
+  end
+  local compared, errors = 0, 0
+  local function same(kind, fields)
+    local plain = outcome(kind, fields)
+    local slow = outcome(kind, setmetatable(copy(fields), {}))
+    T.eq(plain, slow, kind .. " read plain and read by field")
+    compared = compared + 1
+    if plain:find("^error") then errors = errors + 1 end
+  end
+  for kind, fields in pairs(kinds) do
+    same(kind, fields)
+    local m = copy(fields)
+    m.material = mat
+    same(kind, m)
+    m.material = {}
+    same(kind, m)
+    for name in pairs(fields) do
+      local without = copy(fields)
+      without[name] = nil
+      same(kind, without)
+      for _, v in ipairs(bad) do
+        local f = copy(fields)
+        f[name] = v
+        same(kind, f)
+      end
+    end
+    local extra = copy(fields)
+    extra.raduis = 1
+    same(kind, extra)
+    extra = copy(fields)
+    extra[1] = 0
+    same(kind, extra)
+  end
+  T.eq(compared, 285, "cases compared")
+  assert(errors > 200 and errors < compared, "errors: " .. errors)
+end)

@@ -282,6 +282,8 @@ T.test("finalizers that close the scene, mesh or image strike mid-method", funct
     function(s) return s:explain{x = 1, y = 1, width = 2, height = 2} end,
     function(s) return s:transformed(2, {1, 2, 3}) end,
     function(s) return s:add({sphere(), lancer.point_light{position = {0, 1, 0}}}) end,
+    function(s) return s:add(lancer.sphere{center = {0, 0, 0}, radius = 1,
+                                           material = lancer.material{}}) end,
     function(s) return s:objects() end,
     function(s) return s:remove(1) end,
     function(s) s.background = {0.1, 0.2, 0.3} end,

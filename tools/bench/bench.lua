@@ -1,6 +1,7 @@
 -- bench.lua: `make bench`: lancer, POV-Ray 3.7 and Tachyon 0.99 on BENCH.md's
--- scenes and the CSG scene (scenes/csg.lua, against POV-Ray), and Embree 3 on
--- the same rays (tools/bench/embree.lua).
+-- scenes, the CSG scene (scenes/csg.lua) and the glass-and-checker scene
+-- (scenes/bench/glass.lua), both against POV-Ray, and Embree 3 on the same
+-- rays (tools/bench/embree.lua).
 --
 -- Usage, from anywhere, after `make all build/bin/lc-runstat`:
 --   build/bin/lancer tools/bench/bench.lua [quick] [case ...]
@@ -12,7 +13,8 @@
 -- sampling against uniform 256 spp, tools/bench/adaptive.lua), embree
 -- (lancer's ray queries against Embree's, tools/bench/embree.lua), cornell
 -- (the Cornell box against POV-Ray's radiosity by time to an RMSE,
--- tools/bench/cornell.lua).
+-- tools/bench/cornell.lua), fixed (the fixed cost of a run beside a
+-- frame's trace, tools/bench/fixed.lua).
 --
 -- For each case: write the POV-Ray and Tachyon files into out/bench/, then
 -- run lancer, POV-Ray and Tachyon in turn (interleaved, so a noisy spell
@@ -34,6 +36,7 @@ local knobs = module("knobs")
 local adaptive = module("adaptive")
 local embree = module("embree")
 local cornell = module("cornell")
+local fixed = module("fixed")
 
 local ROOT = run.output("cd " .. run.quote(here .. "/../..") .. " && pwd")
 local OUT = ROOT .. "/out/bench"
@@ -58,7 +61,7 @@ local PEER_SLOW = 60                  -- s: a peer whose first run is slower run
 
 -- The cases, in the order they run. lancer runs scenes/bench/<script>
 -- with args plus the output path (or `path`, a script elsewhere). tachyon_full:
--- Tachyon only with FULL=1; povray_only: a scene Tachyon cannot draw (CSG).
+-- Tachyon only with FULL=1; povray_only: why Tachyon cannot draw the scene.
 local CASES = {
   {key = "b1", label = "B1 1 spp", scene = scenes.b1, samples = 1,
    script = "b1.lua", args = {"1"}, quick = true},
@@ -76,9 +79,21 @@ local CASES = {
    script = "b3.lua", args = {"707"}, quick = true},
   {key = "b3-4m", label = "B3 4M triangles", scene = scenes.b3, size = 1414, samples = 1,
    script = "b3.lua", args = {"1414"}, tachyon_full = true},
+  -- the scene classes (scenes.lua's city, clusters, mixed, instances)
+  {key = "city", label = "city 19.6k boxes", scene = scenes.city, size = 160, samples = 1,
+   script = "city.lua", args = {"160"}, quick = true, class = true},
+  {key = "clusters", label = "clusters 100k spheres", scene = scenes.clusters,
+   size = 100000, samples = 1, script = "clusters.lua", args = {"100000"}, class = true},
+  {key = "mixed", label = "mixed 50k primitives", scene = scenes.mixed, size = 50000,
+   samples = 1, script = "mixed.lua", args = {"50000"}, class = true},
+  {key = "instances", label = "instances 400 x 1k triangles", scene = scenes.instances,
+   size = 20, samples = 1, script = "instances.lua", args = {"20"}, class = true},
   -- scenes/csg.lua; Tachyon has no CSG
   {key = "csg", label = "CSG", scene = scenes.csg, samples = 1, path = "scenes/csg.lua",
-   args = {"1"}, quick = true, povray_only = true},
+   args = {"1"}, quick = true, povray_only = "no CSG"},
+  -- Tachyon's transmission rays go on straight: no refraction, no index
+  {key = "glass", label = "Glass + checker", scene = scenes.glass, samples = 1,
+   script = "glass.lua", args = {"1"}, quick = true, povray_only = "no refraction"},
 }
 
 local function say(fmt, ...)            -- progress on stderr; stdout is the table
@@ -156,6 +171,7 @@ local function run_case(case)
       runs = new_runs("missing")
     elseif peer.name ~= "povray" and case.povray_only then
       runs = new_runs("n/a")
+      runs.why = case.povray_only
     elseif peer.name == "tachyon" and case.tachyon_full and not FULL then
       runs = new_runs("skipped")
     else
@@ -252,10 +268,11 @@ for key in pairs(ONLY or {}) do
   local known = false
   for _, case in ipairs(CASES) do known = known or case.key == key end
   known = known or key == "robust" or key == "parity" or key == "knobs" or
-          key == "adaptive" or key == "embree" or key == "cornell"
+          key == "adaptive" or key == "embree" or key == "cornell" or key == "fixed"
   if not known then
-    fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m csg "
-         .. "robust parity knobs adaptive embree cornell)", key)
+    fail("no case '%s' (cases: b1 b1-16spp b2-1k b2-10k b2-100k b2-1m b3-1m b3-4m city "
+         .. "clusters mixed instances csg glass "
+         .. "robust parity knobs adaptive embree cornell fixed)", key)
   end
 end
 local results = {}
@@ -283,6 +300,11 @@ if not ONLY or ONLY.parity then
   else
     say("%s not found: `make bench` builds it (make MINIMAL=1)", MINIMAL)
   end
+end
+if not ONLY or ONLY.fixed then
+  say("the fixed cost of a run")
+  text = text .. "\n" .. fixed.section{run = run, runstat = RUNSTAT, root = ROOT, out = OUT,
+    lancer = LANCER, runs = QUICK and 3 or 7, say = say}
 end
 if not ONLY or ONLY.knobs then
   say("cost linear in each knob (T5)")

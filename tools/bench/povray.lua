@@ -5,8 +5,9 @@
 -- scales ambient and diffuse only, as the spec's shading does),
 -- max_trace_level = depth + 1, no adaptive depth cut-off (adc_bailout 0),
 -- linear output (assumed_gamma 1.0 in the file, File_Gamma=1.0 on the
--- command line). No #declare: every object carries its own texture, so the
--- file is exactly what the scene says, object by object.
+-- command line). No #declare but the instanced mesh's: every object carries
+-- its own texture, so the file is exactly what the scene says, object by
+-- object.
 local P = {}
 
 local fmt = string.format
@@ -14,16 +15,44 @@ local fmt = string.format
 local function num(x) return fmt("%.10g", x) end
 local function vec(v) return fmt("<%s, %s, %s>", num(v[1]), num(v[2]), num(v[3])) end
 
+-- POV-Ray's checker is lancer's: cubes of side 1 in pigment space, the
+-- first colour where floor(x) + floor(y) + floor(z) is even; `scale` makes
+-- them scale wide. (POV-Ray 3.x's sources add a thousandth to each
+-- coordinate before floor(); 3.7.0's images show none: moved by that
+-- much, 0.1 % of the glass scene's pixels, along checker edges, differ.)
+local function pigment(m)
+  local c = m.checker
+  if c then
+    return fmt("pigment { checker rgb %s, rgb %s scale %s }", vec(c.a), vec(c.b),
+               num(c.scale))
+  end
+  if m.kt then       -- transmit: what goes through, times the light behind
+    return fmt("pigment { rgbt <%s, %s, %s, %s> }", num(m.color[1]), num(m.color[2]),
+               num(m.color[3]), num(m.kt))
+  end
+  return fmt("pigment { rgb %s }", vec(m.color))
+end
+
 -- One texture per material, written out in full where each object needs it.
+-- Glass (kt) is the fixed model: a transmit of kt and a reflection of kr
+-- with no Fresnel and no conserve_energy, the interior giving the ior. On
+-- a total internal reflection POV-Ray reflects at weight 1 and skips kr, so
+-- kr + kt must be 1 for it to draw what lancer does (kr + kt reflected).
 local function texture(m)
   local finish = {fmt("ambient %s diffuse %s", num(m.ka), num(m.kd))}
   if m.ks > 0 then
     finish[#finish + 1] = fmt("phong %s phong_size %s", num(m.ks), num(m.n))
   end
   if m.kr > 0 then finish[#finish + 1] = fmt("reflection { %s }", num(m.kr)) end
-  return fmt("texture { pigment { rgb %s } finish { %s } }", vec(m.color),
-             table.concat(finish, " "))
+  local tex = fmt("texture { %s finish { %s } }", pigment(m), table.concat(finish, " "))
+  if m.kt then
+    assert(math.abs(m.kr + m.kt - 1) < 1e-12,
+           "povray.lua: glass needs kr + kt = 1 (POV-Ray's total internal reflection)")
+    tex = tex .. fmt(" interior { ior %s }", num(m.ior))
+  end
+  return tex
 end
+P.texture = texture
 
 local function write_header(f, scene)
   local c = scene.camera
@@ -96,6 +125,50 @@ local function write_csg(f, node, tex, indent)
   end
 end
 
+-- The scene classes' open cylinders, quads (two triangles, as Tachyon
+-- gets them), triangles, and instances: the one mesh2 declared once (the
+-- only #declare, as POV-Ray shares a declared mesh's data among its
+-- copies), each copy an object placed by its matrix.
+local function write_classes(f, scene, tex)
+  for _, c in ipairs(scene.cylinders or {}) do
+    f:write(fmt("cylinder { %s, %s, %s open %s }\n", vec(c.base), vec(c.top),
+                num(c.radius), tex[c.material]))
+  end
+  for _, q in ipairs(scene.quads or {}) do
+    local p, u, v = q.corner, q.u, q.v
+    local pu = {p[1] + u[1], p[2] + u[2], p[3] + u[3]}
+    local puv = {pu[1] + v[1], pu[2] + v[2], pu[3] + v[3]}
+    local pv = {p[1] + v[1], p[2] + v[2], p[3] + v[3]}
+    f:write(fmt("triangle { %s, %s, %s %s }\ntriangle { %s, %s, %s %s }\n", vec(p),
+                vec(pu), vec(puv), tex[q.material], vec(p), vec(puv), vec(pv),
+                tex[q.material]))
+  end
+  for _, t in ipairs(scene.triangles or {}) do
+    f:write(fmt("triangle { %s, %s, %s %s }\n", vec(t.a), vec(t.b), vec(t.c),
+                tex[t.material]))
+  end
+  local inst = scene.instances
+  if not inst then return end
+  local v, faces = inst.vertices, inst.faces
+  f:write(fmt("#declare Placed = mesh2 {\n vertex_vectors { %d,\n", #v // 3))
+  for i = 1, #v, 3 do
+    f:write(fmt(" <%s, %s, %s>,\n", num(v[i]), num(v[i + 1]), num(v[i + 2])))
+  end
+  f:write(fmt(" }\n face_indices { %d,\n", #faces // 3))
+  for i = 1, #faces, 3 do
+    f:write(fmt(" <%d, %d, %d>,\n", faces[i] - 1, faces[i + 1] - 1, faces[i + 2] - 1))
+  end
+  f:write(" }\n}\n")
+  -- POV-Ray's matrix maps the row (x, y, z, 1): its entries are M's columns.
+  for _, m in ipairs(inst.placements) do
+    f:write(fmt("object { Placed %s matrix <%s, %s, %s, %s, %s, %s, %s, %s, %s, " ..
+                "%s, %s, %s> }\n", tex[inst.material],
+                num(m[1][1]), num(m[2][1]), num(m[3][1]), num(m[1][2]), num(m[2][2]),
+                num(m[3][2]), num(m[1][3]), num(m[2][3]), num(m[3][3]), num(m[1][4]),
+                num(m[2][4]), num(m[3][4])))
+  end
+end
+
 -- Writes scene to path (through path .. ".tmp", renamed at the end, so a
 -- file that exists is complete). grid is scenes.grid_vertex.
 function P.write(scene, path, grid)
@@ -119,6 +192,7 @@ function P.write(scene, path, grid)
   end
   scene.spheres(function(x, y, z, r, m) f:write(fmt(sfmt, x, y, z, r, tex[m])) end)
   if scene.mesh then write_mesh(f, scene, grid) end
+  write_classes(f, scene, tex)
   for _, tree in ipairs(scene.csg or {}) do write_csg(f, tree, tex, "") end
   assert(f:close())
   assert(os.rename(tmp, path))

@@ -38,7 +38,9 @@ end
 local function peer_cell(runs, peer_runs)
   if runs.status == "missing" then return "missing" end
   if runs.status == "skipped" then return "skipped (FULL=1 runs it)" end
-  if runs.status == "n/a" then return "n/a (no CSG)" end
+  if runs.status == "n/a" then
+    return "n/a (" .. (runs.why or "cannot draw it") .. ")"
+  end
   if not runs.med.wall then return runs.status end
   local cell = fmt("%s / %.0f", f2(runs.med.wall), runs.med.rss_mb)
   if runs.n < peer_runs then cell = cell .. fmt(" (%d run)", runs.n) end
@@ -144,14 +146,31 @@ local function targets(results)
   -- The targets against Embree are measured in the same run, on the same
   -- rays: tools/bench/embree.lua's section.
 
-  local r = R["csg"]
-  local l, p = r and r.lancer.med.wall, r and r.peers.povray.med.wall
-  if l and p then
-    add(l < p, "CSG: lancer wall %.2f s < POV-Ray wall %.2f s (%.2fx); trace %.3f s, "
-        .. "POV-Ray's own %.3f s", l, p, l / p, r.lancer.med.trace or 0,
-        r.peers.povray.med.render or 0)
-  else
-    add(nil, "CSG: lancer wall < POV-Ray wall (not measured)")
+  -- The scenes only POV-Ray draws too: lancer faster, same run.
+  for _, c in ipairs{{"csg", "CSG"}, {"glass", "Glass + checker"}} do
+    local r = R[c[1]]
+    local l, p = r and r.lancer.med.wall, r and r.peers.povray.med.wall
+    if l and p then
+      add(l < p, "%s: lancer wall %.2f s < POV-Ray wall %.2f s (%.2fx); trace %.3f s, "
+          .. "POV-Ray's own %.3f s", c[2], l, p, l / p, r.lancer.med.trace or 0,
+          r.peers.povray.med.render or 0)
+    else
+      add(nil, "%s: lancer wall < POV-Ray wall (not measured)", c[2])
+    end
+  end
+
+  -- The scene classes: ahead of Tachyon's own ray-tracing time (its log's
+  -- "Ray Tracing Time", which leaves out its parsing and start-up).
+  for _, r in ipairs(results) do
+    local l, t = r.lancer.med, r.peers.tachyon.med
+    if r.case.class and l.trace and t.render then
+      add(l.trace < t.render, "%s: lancer trace %.3f s < Tachyon's own ray-tracing " ..
+          "time %.3f s (%.2fx; walls %.2f and %.2f s)", r.case.label, l.trace, t.render,
+          l.trace / t.render, l.wall, t.wall)
+    elseif r.case.class then
+      add(nil, "%s: lancer trace < Tachyon's own ray-tracing time (not measured)",
+          r.case.label)
+    end
   end
 
   local big, small = lancer("b2-1m"), lancer("b2-1k")

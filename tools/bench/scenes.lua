@@ -1,4 +1,5 @@
--- scenes.lua: BENCH.md's scenes B1, B2 and B3 as plain data, for the peer writers.
+-- scenes.lua: BENCH.md's scenes B1, B2 and B3 and the scene classes (a city,
+-- clusters, mixed primitives, instances) as plain data, for the peer writers.
 --
 -- lancer's own versions are scenes/bench/b*.lua, written against its API;
 -- this file says the same thing once more in renderer-neutral terms so that
@@ -9,7 +10,11 @@
 --   camera      {eye = {x,y,z}, target = {x,y,z}, up = {x,y,z}, hfov = degrees}
 --   width, height, depth (mirror bounces), background {r,g,b}
 --   lights      list of {position = {x,y,z}, color = {r,g,b}} (point lights, no falloff)
---   materials   name -> {color = {r,g,b}, ka, kd, ks, n, kr}
+--   materials   name -> {color = {r,g,b}, ka, kd, ks, n, kr}; a material may
+--               instead carry checker = {a = {r,g,b}, b = {r,g,b}, scale}
+--               (cubes of side scale in world space, a where floor(x/scale) +
+--               floor(y/scale) + floor(z/scale) is even) in place of color,
+--               and glass kt (fixed transmission, no Fresnel) with ior
 --   planes      list of {point, normal, material}
 --   boxes       list of {min, max, material} (axis-aligned)
 --   spheres(emit)  calls emit(x, y, z, r, material) for every sphere, in order
@@ -189,6 +194,200 @@ function M.csg()
     boxes = {},
     spheres = list_emitter{},
     csg = {classic, ring, lathe, die},
+  }
+end
+
+-- ---- scene classes: a city, clusters, mixed primitives, instances ----------
+-- Each is scenes/bench/<name>.lua in lancer's API, drawn from the same
+-- PRNG in the same order; the image columns check that both say the same.
+-- Fields beyond B1-B3's: cylinders {base, top, radius, material} (open: no
+-- caps, as Tachyon's FCYLINDER), quads {corner, u, v, material} (the peers
+-- get two triangles), triangles {a, b, c, material}, instances {vertices,
+-- faces (flat lists, faces 1-based), material, placements (3x4 rows {M | t})}.
+
+-- The benchmark's PRNG (B2's LCG), seeded.
+local function lcg(seed)
+  local s = seed
+  return function()
+    s = s * 6364136223846793005 + 1442695040888963407
+    return (s >> 11) * (1.0 / 9007199254740992.0)
+  end
+end
+
+local function palette_materials(extra)
+  local materials = extra or {}
+  for k, c in ipairs(PALETTE) do
+    materials["p" .. (k - 1)] = {color = c, ka = 0.1, kd = 0.8, ks = 0, n = 0, kr = 0}
+  end
+  materials.ground = {color = {0.6, 0.6, 0.6}, ka = 0.1, kd = 0.8, ks = 0, n = 0, kr = 0}
+  return materials
+end
+
+local function open_air(name, camera, lights, extra)
+  local scene = {name = name, camera = camera, width = M.WIDTH, height = M.HEIGHT,
+                 depth = 3, background = {0.5, 0.7, 1.0}, lights = lights,
+                 materials = palette_materials(),
+                 planes = {{point = {0, 0, 0}, normal = {0, 1, 0}, material = "ground"}},
+                 boxes = {}, spheres = list_emitter{}}
+  for k, v in pairs(extra) do scene[k] = v end
+  return scene
+end
+
+-- "city": an L x L grid of lots, every eighth row and column a street; a
+-- building a lot, its footprint and height random, taller toward the middle.
+function M.city(L)
+  local u, boxes = lcg(7), {}
+  for i = 0, L - 1 do
+    for j = 0, L - 1 do
+      if i % 8 ~= 0 and j % 8 ~= 0 then
+        local cx, cz = i - L / 2 + 0.5, j - L / 2 + 0.5
+        local w, d = 0.55 + 0.4 * u(), 0.55 + 0.4 * u()
+        local near = math.max(0, 1 - math.sqrt(cx * cx + cz * cz) / (L / 2))
+        local h = 0.3 + 0.5 * u() + 12 * near * near * u()
+        boxes[#boxes + 1] = {min = {cx - w / 2, 0, cz - d / 2},
+                             max = {cx + w / 2, h, cz + d / 2},
+                             material = "p" .. ((i * L + j) % 8)}
+      end
+    end
+  end
+  return open_air("city", {eye = {0, 0.3 * L, 0.6 * L}, target = {0, 0, 0}, up = {0, 1, 0},
+                           hfov = 50},
+                  {{position = {0.4 * L, 0.6 * L, 0.25 * L}, color = {1, 1, 1}}},
+                  {boxes = boxes})
+end
+
+-- "clusters": n spheres in 64 clusters, each a cube of side 3 to 7 so dense
+-- that its spheres overlap many times over.
+function M.clusters(n)
+  local u, K, centres = lcg(11), 64, {}
+  for c = 1, K do
+    local spread = 1.5 + 2 * u()
+    centres[c] = {-40 + 80 * u(), spread + 1 + 4 * u(), -40 + 80 * u(), spread}
+  end
+  local function spheres(emit)
+    for k = 0, n - 1 do
+      local c = centres[k % K + 1]
+      local x = c[1] + c[4] * (2 * u() - 1)
+      local y = c[2] + c[4] * (2 * u() - 1)
+      local z = c[3] + c[4] * (2 * u() - 1)
+      emit(x, y, z, 0.15 + 0.35 * u(), "p" .. (k % 8))
+    end
+  end
+  return open_air("clusters", {eye = {0, 30, 75}, target = {0, 2, 0}, up = {0, 1, 0},
+                               hfov = 60},
+                  {{position = {40, 60, 30}, color = {1, 1, 1}}}, {spheres = spheres})
+end
+
+-- "mixed": n objects scattered on the ground, by turns a sphere, a box, an
+-- open cylinder, a leaning quad and a triangle.
+function M.mixed(n)
+  local u = lcg(13)
+  local list, boxes, cylinders, quads, triangles = {}, {}, {}, {}, {}
+  for k = 0, n - 1 do
+    local x, z, s = -50 + 100 * u(), -50 + 100 * u(), 0.15 + 0.4 * u()
+    local m, kind = "p" .. (k % 8), k % 5
+    if kind == 0 then
+      list[#list + 1] = {x, s, z, s, m}
+    elseif kind == 1 then
+      boxes[#boxes + 1] = {min = {x - s, 0, z - s}, max = {x + s, 1.5 * s, z + s},
+                           material = m}
+    elseif kind == 2 then
+      cylinders[#cylinders + 1] = {base = {x, 0, z}, top = {x, 2.5 * s, z},
+                                   radius = 0.6 * s, material = m}
+    elseif kind == 3 then
+      quads[#quads + 1] = {corner = {x - s, 0, z}, u = {2 * s, 0, 0}, v = {0, 2 * s, s},
+                           material = m}
+    else
+      triangles[#triangles + 1] = {a = {x - s, 0, z}, b = {x + s, 0, z},
+                                   c = {x, 2 * s, z + 0.3 * s}, material = m}
+    end
+  end
+  return open_air("mixed", {eye = {0, 12, 62}, target = {0, 0, 0}, up = {0, 1, 0},
+                            hfov = 60},
+                  {{position = {40, 60, 30}, color = {1, 1, 1}}},
+                  {spheres = list_emitter(list), boxes = boxes, cylinders = cylinders,
+                   quads = quads, triangles = triangles})
+end
+
+-- A torus of seg x seg / 2 quads (two triangles each) around +y, major
+-- radius 1, minor 0.35: flat lists, faces 1-based.
+local function torus_mesh(seg)
+  local vertices, faces, ring = {}, {}, seg // 2
+  for i = 0, seg - 1 do
+    local a = 2 * math.pi * i / seg
+    for j = 0, ring - 1 do
+      local b = 2 * math.pi * j / ring
+      local r = 1 + 0.35 * cos(b)
+      local n = #vertices
+      vertices[n + 1], vertices[n + 2], vertices[n + 3] = r * cos(a), 0.35 * sin(b),
+                                                          r * sin(a)
+    end
+  end
+  for i = 0, seg - 1 do
+    for j = 0, ring - 1 do
+      local v00 = i * ring + j + 1
+      local v10 = (i + 1) % seg * ring + j + 1
+      local v01 = i * ring + (j + 1) % ring + 1
+      local v11 = (i + 1) % seg * ring + (j + 1) % ring + 1
+      local n = #faces
+      faces[n + 1], faces[n + 2], faces[n + 3] = v00, v10, v11
+      faces[n + 4], faces[n + 5], faces[n + 6] = v00, v11, v01
+    end
+  end
+  return vertices, faces
+end
+
+-- "instances": one torus mesh of 1024 triangles placed g x g times, each
+-- turned about y and tilted about x, scaled and set on the ground.
+function M.instances(g)
+  local u = lcg(17)
+  local vertices, faces = torus_mesh(32)
+  local placements = {}
+  for i = 0, g - 1 do
+    for j = 0, g - 1 do
+      local a, b = 2 * math.pi * u(), 0.5 * math.pi * u()
+      local s = 0.6 + 0.6 * u()
+      local x = (i - g / 2 + 0.5) * 4 + u() - 0.5
+      local z = (j - g / 2 + 0.5) * 4 + u() - 0.5
+      local ca, sa, cb, sb = cos(a), sin(a), cos(b), sin(b)
+      -- s * Ry(a) * Rx(b), then up to y = 1.4 s
+      placements[#placements + 1] = {
+        {s * ca, s * sa * sb, s * sa * cb, x},
+        {0, s * cb, -s * sb, 1.4 * s},
+        {-s * sa, s * ca * sb, s * ca * cb, z}}
+    end
+  end
+  return open_air("instances", {eye = {0, 1.2 * g, 2.6 * g}, target = {0, 0, 0},
+                                up = {0, 1, 0}, hfov = 60},
+                  {{position = {2 * g, 3 * g, 1.5 * g}, color = {1, 1, 1}}},
+                  {instances = {vertices = vertices, faces = faces, material = "p2",
+                                placements = placements}})
+end
+
+-- "glass": after Whitted's 1980 picture, a glass sphere (ior 1.5) and a
+-- mirror sphere over a checker floor, one light, a uniform background;
+-- 5 bounces. The glass is the seed's fixed kr and kt (no Fresnel, kr + kt =
+-- 1, so a total internal reflection sends all of it back in both
+-- renderers); why not Fresnel is in scenes/bench/glass.lua, lancer's
+-- version. The floor is half-way through a layer of the checker's cubes.
+function M.glass()
+  local function m(c, ka, kd, ks, n, kr)
+    return {color = c, ka = ka, kd = kd, ks = ks, n = n, kr = kr}
+  end
+  local glass = m({1, 1, 1}, 0, 0, 0, 0, 0.1)
+  glass.kt, glass.ior = 0.9, 1.5
+  local floor = m(nil, 0.1, 0.8, 0, 0, 0)
+  floor.checker = {a = {0.95, 0.85, 0.1}, b = {0.9, 0.1, 0.05}, scale = 1}
+  return {
+    name = "glass",
+    camera = {eye = {0, 1.7, -6.5}, target = {0, 0.5, 0}, up = {0, 1, 0}, hfov = 55},
+    width = M.WIDTH, height = M.HEIGHT, depth = 5, background = {0.3, 0.5, 0.85},
+    lights = {{position = {-4, 7, -5}, color = {1, 1, 1}}},
+    materials = {floor = floor, mirror = m({1, 1, 1}, 0, 0, 0, 0, 0.9), glass = glass},
+    planes = {{point = {0, -0.5, 0}, normal = {0, 1, 0}, material = "floor"}},
+    boxes = {},
+    spheres = list_emitter{{-0.7, 0.52, -1.0, 1.0, "glass"},
+                           {1.6, 0.62, 1.2, 1.1, "mirror"}},
   }
 end
 

@@ -82,9 +82,56 @@ local function write_mesh(f, scene, grid)
   end
 end
 
+-- The scene classes' cylinders (FCYLINDER: open, BASE and APEX), quads (two
+-- TRIs), triangles and instances (Tachyon has none: each placed copy's
+-- triangles are written out).
+local function tri(a, b, c, m)
+  return fmt("TRI V0 %s V1 %s V2 %s %s\n", mvec(a), mvec(b), mvec(c), m)
+end
+
+local function write_classes(f, scene)
+  for _, c in ipairs(scene.cylinders or {}) do
+    f:write(fmt("FCYLINDER BASE %s APEX %s RAD %s %s\n", mvec(c.base), mvec(c.top),
+                num(c.radius), c.material))
+  end
+  for _, q in ipairs(scene.quads or {}) do
+    local p, u, v = q.corner, q.u, q.v
+    local pu = {p[1] + u[1], p[2] + u[2], p[3] + u[3]}
+    local puv = {pu[1] + v[1], pu[2] + v[2], pu[3] + v[3]}
+    local pv = {p[1] + v[1], p[2] + v[2], p[3] + v[3]}
+    f:write(tri(p, pu, puv, q.material), tri(p, puv, pv, q.material))
+  end
+  for _, t in ipairs(scene.triangles or {}) do f:write(tri(t.a, t.b, t.c, t.material)) end
+  local inst = scene.instances
+  if not inst then return end
+  local v, faces = inst.vertices, inst.faces
+  for _, m in ipairs(inst.placements) do
+    local moved = {}
+    for i = 1, #v, 3 do
+      local x, y, z = v[i], v[i + 1], v[i + 2]
+      moved[(i + 2) // 3] = {m[1][1] * x + m[1][2] * y + m[1][3] * z + m[1][4],
+                             m[2][1] * x + m[2][2] * y + m[2][3] * z + m[2][4],
+                             m[3][1] * x + m[3][2] * y + m[3][3] * z + m[3][4]}
+    end
+    local out = {}
+    for i = 1, #faces, 3 do
+      out[#out + 1] = tri(moved[faces[i]], moved[faces[i + 1]], moved[faces[i + 2]],
+                          inst.material)
+    end
+    f:write(table.concat(out))
+  end
+end
+
 -- Writes scene to path (through path .. ".tmp", renamed at the end, so a
 -- file that exists is complete). grid is scenes.grid_vertex.
 function T.write(scene, path, grid)
+  for name, m in pairs(scene.materials) do
+    -- Tachyon's transmission ray goes on along the incident ray and its
+    -- .dat has no index of refraction: glass is beyond it. (The writer has
+    -- no checker either: the only scene with one has glass.)
+    assert(not m.kt and not m.checker, "tachyon.lua: material '" .. name ..
+           "' has kt or a checker, which this writer cannot say")
+  end
   local tmp = path .. ".tmp"
   local f = assert(io.open(tmp, "w"))
   write_header(f, scene)
@@ -104,6 +151,7 @@ function T.write(scene, path, grid)
   end
   scene.spheres(function(x, y, z, r, m) f:write(fmt(sfmt, -x, y, z, r, m)) end)
   if scene.mesh then write_mesh(f, scene, grid) end
+  write_classes(f, scene)
   f:write("END_SCENE\n")
   assert(f:close())
   assert(os.rename(tmp, path))
