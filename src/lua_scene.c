@@ -410,6 +410,9 @@ static void add_shape(lua_State *L, ud_scene *u, const ud_shape *sh, int idx, in
     lua_pop(L, 1);
     if (!u->s)
         luaL_argerror(L, 1, "lancer.Scene already freed");     /* as scene_check */
+    if (u->rendering)                                           /* as scene_at */
+        luaL_argerror(L, 1, "lancer.Scene is rendering: its render's on_pass cannot "
+                      "change, render or query it");
     if (lc_scene_add_shape(u->s, &moved, mat, &err) < 0)
         lf_raise(L, arg, &err);
 }

@@ -172,16 +172,20 @@ T.test("progressive: on_pass cannot touch the scene it renders", function()
   local other = lancer.scene{camera = lancer.camera{from = {0, 0, -3}, at = {0, 0, 0}}}
   other:add(lancer.sphere{center = {0, 0, 0}, radius = 1},
             lancer.point_light{position = {0, 2, -3}, intensity = 10})
-  local function during(f)
+  local function during(f, ...)
     return T.check_error(function()
       s:render{width = 8, height = 8, samples = 2, progressive = true, progress = false,
                on_pass = f}
-    end, "test_progressive.lua:")
+    end, "test_progressive.lua:", ...)
   end
-  during(function() s:add(lancer.sphere{center = {0, 0, 0}, radius = 1}) end)
-  during(function() s:render{width = 4, height = 4} end)
-  during(function() m:add_vertices{0, 0, 1} end)
-  during(function() s:close() end)
+  local busy = "lancer.Scene is rendering: its render's on_pass cannot"
+  during(function() s:add(lancer.sphere{center = {0, 0, 0}, radius = 1}) end, busy)
+  during(function() s:add(lancer.point_light{position = {0, 1, 0}}) end, busy)
+  during(function() s:render{width = 4, height = 4} end, busy)
+  during(function() s:objects() end, busy)
+  during(function() m:add_vertices{0, 0, 1} end, "add_vertices: no mesh may grow")
+  during(function() local closing <close> = s end, busy, "close it")
+  T.eq(#s:objects(), 6, "objects after the refused changes: the scene's 5 and the mesh")
   -- Another scene renders inside on_pass, and the outer render goes on.
   local inner = 0
   local _, st = s:render{width = 8, height = 8, samples = 2, progressive = true,
