@@ -153,7 +153,7 @@ ALWAYS_INLINE void put(job *j, int x, int y, const double sum[3], uint32_t n, ui
 ** them, into the same double; so after the last pass each pixel holds the
 ** plain render's sum, bit for bit, divided by the same N. Apart from the
 ** plain loop below, which stays as it was (B1 measures it). */
-static void tile_pass(job *j, tracer *t, int x0, int y0, int x1, int y1)
+NEVER_INLINE void tile_pass(job *j, tracer *t, int x0, int y0, int x1, int y1)
 {
     const lc_render_options *o = j->o;
     uint32_t n = (uint32_t)o->samples;
