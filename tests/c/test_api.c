@@ -69,10 +69,10 @@ static void defaults_and_rules_live_in_the_core(void **state)
     assert_int_equal(lc_shape_stored(&pl, &stored, &err), LC_OK);
     assert_true(stored.u.x == 0 && fabs(stored.u.y - 0.6) < 3e-16 &&
                 fabs(stored.u.z - 0.8) < 3e-16);
-    int mi = lc_scene_add_material(s, &(lc_material){lc_material_default().color, 0, 1, 0,
-                                                      0, 1, {0, 0, 0}, LC_ABSORB_ALL, 0,
-                                                      1, 0, 1, 1, {0, 0, 0},
-                                                      LC_SHADOW_FILTERED},
+    int mi = lc_scene_add_material(s, &(lc_material){.color = lc_material_default().color,
+                                                      .kd = 1, .alpha = 1, .cone_samples = 1,
+                                                      .ior = 1, .fresnel = 1,
+                                                      .normal_scale = 1},
                                    &err);
     int id = lc_scene_add_shape(s, &pl, mi, &err);
     lc_object obj;

@@ -274,7 +274,7 @@ static void check_ray(reference *ref, const ray *r, tally *t)
     memset(&a, 0, sizeof a);
     memset(&b, 0, sizeof b);
     memset(&c, 0, sizeof c);
-    bvh_counts ca = {0, 0}, cb = {0, 0};
+    bvh_counts ca = {0}, cb = {0};
     use(ref, 0);
     int was = bvh_simd_set(1);
     int fa = intersect_closest(s, r, HUGE_VAL, &a, &ca);
