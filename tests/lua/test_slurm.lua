@@ -28,7 +28,10 @@ local PROGS = {"munged", "munge", "unmunge", "slurmctld", "slurmd", "sbatch", "s
 
 -- Runs a command list, all of its output captured (T.run redirects only
 -- the last command's).
-local function sh(cmd) return T.run("{ " .. cmd .. "\n}") end
+-- The daemons live in sbin, which a plain user's PATH (or env -i's) lacks.
+local SBIN = 'export PATH="$PATH:/usr/local/sbin:/usr/sbin:/sbin"; '
+
+local function sh(cmd) return T.run("{ " .. SBIN .. cmd .. "\n}") end
 
 local function line_of(cmd)
   local out = sh(cmd)
@@ -36,7 +39,7 @@ local function line_of(cmd)
 end
 
 local function have(prog)
-  return os.execute("command -v " .. q(prog) .. " >/dev/null 2>&1") == true
+  return os.execute(SBIN .. "command -v " .. q(prog) .. " >/dev/null 2>&1") == true
 end
 
 local function sleep(s) os.execute("sleep " .. s) end
