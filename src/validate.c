@@ -297,7 +297,7 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
                           o->progressive);
     if (o->on_pass && !o->progressive)
         return error_fail(err, LC_EARG, "on_pass", "is called after each pass of a "
-                          "progressive render: set progressive = 1 too");
+                          "progressive render: turn progressive on too");
     if (o->aovs & ~LC_AOV_ALL)
         return error_fail(err, LC_EARG, "aovs", "unknown AOV bits 0x%x",
                           o->aovs & ~LC_AOV_ALL);
@@ -306,7 +306,7 @@ lc_status lc_render_options_check(const lc_render_options *o, lc_error *err)
                           "(noise > 0): render them with a fixed number of samples");
     if (o->aovs && o->progressive)
         return error_fail(err, LC_EARG, "aovs", "AOVs are not made by a progressive render: "
-                          "render them in one pass (progressive = 0)");
+                          "render them in one pass, not progressive");
     const int *r = o->region;
     if ((r[0] | r[1] | r[2] | r[3]) != 0 &&
         !(r[0] >= 0 && r[0] < r[2] && r[2] <= o->width && r[1] >= 0 && r[1] < r[3] &&
