@@ -31,16 +31,10 @@ lc_status cone_check(const lc_shape *s, lc_error *err)
 ** by the axis along. */
 static lc_transform to_shape(const lc_shape *s)
 {
-    lc_vec3 a = v3_norm(s->u), b1, b2;
-    placed_frame(a, &b1, &b2);
-    double r = fmax(s->radius, s->radius2);
-    lc_transform t = {{{r * b1.x, r * b2.x, s->u.x, s->p.x},
-                       {r * b1.y, r * b2.y, s->u.y, s->p.y},
-                       {r * b1.z, r * b2.z, s->u.z, s->p.z}}};
-    return t;
+    return placed_axial(s->p, s->u, fmax(s->radius, s->radius2), s->u);
 }
 
-enum { SIDE, BOTTOM, TOP };
+enum { SIDE, BOTTOM, TOP };          /* placed_caps says 1 and 2 */
 
 static double radius_at(const placed_geom *g, double z) { return g->k0 + (g->k1 - g->k0) * z; }
 
@@ -124,19 +118,8 @@ static double solve(const placed_geom *g, const placed_ray *pr, int *part)
             *part = SIDE;
         }
     }
-    if (g->shape.caps && r->d.z != 0) {
-        for (int c = 0; c < 2; c++) {
-            double rad = c ? g->k1 : g->k0;
-            double s = (c - r->o.z) / r->d.z;
-            if (rad == 0 || !(s > pr->lo && s < pr->hi) || (best != 0 && !(s < best)))
-                continue;
-            double x = r->o.x + s * r->d.x, y = r->o.y + s * r->d.y;
-            if (x * x + y * y <= rad * rad) {
-                best = s;
-                *part = c ? TOP : BOTTOM;
-            }
-        }
-    }
+    if (g->shape.caps && r->d.z != 0)
+        best = placed_caps(r, pr, g->k0, g->k1, best, part);
     return best;
 }
 

@@ -17,16 +17,10 @@ lc_status cylinder_check(const lc_shape *s, lc_error *err)
 /* The unit cylinder scaled by the radius across, by the axis along. */
 static lc_transform to_shape(const lc_shape *s)
 {
-    lc_vec3 a = v3_norm(s->u), b1, b2;
-    placed_frame(a, &b1, &b2);
-    double r = s->radius;
-    lc_transform t = {{{r * b1.x, r * b2.x, s->u.x, s->p.x},
-                       {r * b1.y, r * b2.y, s->u.y, s->p.y},
-                       {r * b1.z, r * b2.z, s->u.z, s->p.z}}};
-    return t;
+    return placed_axial(s->p, s->u, s->radius, s->u);
 }
 
-enum { SIDE, BOTTOM, TOP };
+enum { SIDE, BOTTOM, TOP };          /* placed_caps says 1 and 2 */
 
 /* The side over (a, b): height a, angle 2 pi b. */
 static void side(const placed_geom *g, double a, double b, lc_vec3 *p, lc_vec3 *ta,
@@ -97,18 +91,8 @@ static double solve(const placed_geom *g, const placed_ray *pr, int *part)
             }
         }
     }
-    if (g->shape.caps && r->d.z != 0) {
-        for (int k = 0; k < 2; k++) {
-            double s = (k - r->o.z) / r->d.z;
-            if (!(s > pr->lo && s < pr->hi) || (best != 0 && !(s < best)))
-                continue;
-            double x = r->o.x + s * r->d.x, y = r->o.y + s * r->d.y;
-            if (x * x + y * y <= 1) {
-                best = s;
-                *part = k ? TOP : BOTTOM;
-            }
-        }
-    }
+    if (g->shape.caps && r->d.z != 0)
+        best = placed_caps(r, pr, 1, 1, best, part);
     return best;
 }
 

@@ -22,13 +22,7 @@ lc_status disc_check(const lc_shape *s, lc_error *err)
 /* The unit disc scaled by the radius, its normal along the shape's. */
 static lc_transform to_shape(const lc_shape *s)
 {
-    lc_vec3 a = v3_norm(s->u), b1, b2;
-    placed_frame(a, &b1, &b2);
-    double r = s->radius;
-    lc_transform t = {{{r * b1.x, r * b2.x, r * a.x, s->p.x},
-                       {r * b1.y, r * b2.y, r * a.y, s->p.y},
-                       {r * b1.z, r * b2.z, r * a.z, s->p.z}}};
-    return t;
+    return placed_axial(s->p, s->u, s->radius, v3_mul(v3_norm(s->u), s->radius));
 }
 
 /* Radius sqrt(k0^2 + a (1 - k0^2)) at angle 2 pi b: uniform over the ring. */

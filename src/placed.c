@@ -16,9 +16,14 @@ lc_status placed_make(const lc_shape *s, const lc_transform *to_shape, placed_ge
     return affine_make(&t, &g->x, err);
 }
 
-void placed_frame(lc_vec3 axis, lc_vec3 *b1, lc_vec3 *b2)
+lc_transform placed_axial(lc_vec3 origin, lc_vec3 axis, double r, lc_vec3 z)
 {
-    sample_frame(axis, b1, b2);
+    lc_vec3 a = v3_norm(axis), b1, b2;
+    sample_frame(a, &b1, &b2);
+    lc_transform t = {{{r * b1.x, r * b2.x, z.x, origin.x},
+                       {r * b1.y, r * b2.y, z.y, origin.y},
+                       {r * b1.z, r * b2.z, z.z, origin.z}}};
+    return t;
 }
 
 /* Canonical shapes are of size 1 about the origin: below gamma(8) of the

@@ -286,8 +286,28 @@ void      placed_finish(const placed_geom *g, const placed_ray *pr, double s, lc
 ** canonical z, for axial shapes; a whole canonical box otherwise. */
 void      placed_bounds_axial(const placed_geom *g, double rho0, double rho1, double z0,
                               double z1, float lo[3], float hi[3]);
-/* A frame (b1, b2, axis) around a unit axis, for to_shape. */
-void      placed_frame(lc_vec3 axis, lc_vec3 *b1, lc_vec3 *b2);
+/* An axial kind's to_shape: canonical x and y scaled by r across a frame
+** around the axis (made unit), canonical z to z, the origin to origin. */
+lc_transform placed_axial(lc_vec3 origin, lc_vec3 axis, double r, lc_vec3 z);
+/* The nearer of best (0: none) and where canonical ray r meets the caps of
+** an axial kind, z = 0 of radius r0 and z = 1 of radius r1 (0: no cap),
+** inside pr's span; *part becomes 1 (bottom) or 2 (top) when one is. */
+static inline double placed_caps(const ray *r, const placed_ray *pr, double r0, double r1,
+                                 double best, int *part)
+{
+    for (int c = 0; c < 2; c++) {
+        double rad = c ? r1 : r0;
+        double s = (c - r->o.z) / r->d.z;
+        if (rad == 0 || !(s > pr->lo && s < pr->hi) || (best != 0 && !(s < best)))
+            continue;
+        double x = r->o.x + s * r->d.x, y = r->o.y + s * r->d.y;
+        if (x * x + y * y <= rad * rad) {
+            best = s;
+            *part = c ? 2 : 1;
+        }
+    }
+    return best;
+}
 /* The shared checks: a moved shape's xf, an axis, a positive length. */
 lc_status placed_check_xf(const lc_shape *s, const char *kind, lc_error *err);
 lc_status placed_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
