@@ -143,17 +143,12 @@ static radiance lights_at(tracer *t, const hit *h, const bsdf *b, radiance beta,
     double pdf;
     radiance f, tr;
     lc_vec3 n = b->n;
-    double tooclose2 = 16 * v3_dot(h->perr, h->perr);
+    double tooclose2 = too_close2(h);
     for (size_t i = 0; i < s->nlights; i++) {
         const lc_point_light *L = &s->lights[i];
-        lc_vec3 tol = v3_sub(L->position, h->p);
-        double d2 = v3_dot(tol, tol);
-        if (!(d2 > tooclose2))
-            continue;
-        double d = sqrt(d2);
-        lc_vec3 l = v3_mul(tol, 1 / d);
-        double c = v3_dot(n, l);
-        if (!(c > 0))
+        lc_vec3 l;
+        double d, d2, c;
+        if (!toward_light(h, n, L->position, tooclose2, &l, &d, &d2, &c))
             continue;
         f = bsdf_eval(b, l, &pdf);
         if (!(r_max(f) > 0) ||
@@ -166,14 +161,12 @@ static radiance lights_at(tracer *t, const hit *h, const bsdf *b, radiance beta,
     }
     for (size_t i = 0; i < s->nspots; i++) {
         const spot_light *L = &s->spots[i];
-        lc_vec3 tol = v3_sub(L->d.position, h->p);
-        double d2 = v3_dot(tol, tol);
-        if (!(d2 > tooclose2))
+        lc_vec3 l;
+        double d, d2, c;
+        if (!toward_light(h, n, L->d.position, tooclose2, &l, &d, &d2, &c))
             continue;
-        double d = sqrt(d2);
-        lc_vec3 l = v3_mul(tol, 1 / d);
-        double c = v3_dot(n, l), share = spot_share(L, v3_neg(l));
-        if (!(c > 0) || !(share > 0))
+        double share = spot_share(L, v3_neg(l));
+        if (!(share > 0))
             continue;
         f = bsdf_eval(b, l, &pdf);
         if (!(r_max(f) > 0) ||

@@ -143,6 +143,26 @@ ALWAYS_INLINE int shadow_ray(tracer *t, const hit *h, lc_vec3 l, double reach,
     return !blocked;
 }
 
+/* The squared distance within which a light sits on the point h itself. */
+static inline double too_close2(const hit *h) { return 16 * v3_dot(h->perr, h->perr); }
+
+/* From h toward a light at pos: the unit direction *l, the distance *d (its
+** square *d2) and *cosl = n.l. 0 when the light sits on the point itself
+** (d2 within tooclose2, too_close2's: no direction) or behind the surface
+** (no shadow ray at all). */
+ALWAYS_INLINE int toward_light(const hit *h, lc_vec3 n, lc_vec3 pos, double tooclose2,
+                               lc_vec3 *l, double *d, double *d2, double *cosl)
+{
+    lc_vec3 tol = v3_sub(pos, h->p);
+    *d2 = v3_dot(tol, tol);
+    if (!(*d2 > tooclose2))
+        return 0;
+    *d = sqrt(*d2);
+    *l = v3_mul(tol, 1.0 / *d);
+    *cosl = v3_dot(n, *l);
+    return *cosl > 0;
+}
+
 /* Each light loop takes `filter` as a constant (LC_NEED_FILTER): the loops
 ** opaque scenes run have no trace of the filtered shadows. */
 ALWAYS_INLINE void point_lights(tracer *t, const hit *h, const lc_material *m,
@@ -150,17 +170,12 @@ ALWAYS_INLINE void point_lights(tracer *t, const hit *h, const lc_material *m,
                                 int filter)
 {
     const lc_scene *s = t->scene;
-    double tooclose2 = 16 * v3_dot(h->perr, h->perr);
+    double tooclose2 = too_close2(h);
     for (size_t i = 0; i < s->nlights; i++) {
         const lc_point_light *L = &s->lights[i];
-        lc_vec3 tol = v3_sub(L->position, h->p);
-        double d2 = v3_dot(tol, tol);
-        if (!(d2 > tooclose2))      /* light on the point itself: no direction */
-            continue;
-        double d = sqrt(d2);
-        lc_vec3 l = v3_mul(tol, 1.0 / d);
-        double cosl = v3_dot(n, l);
-        if (!(cosl > 0))            /* behind the surface: no shadow ray at all */
+        lc_vec3 l;
+        double d, d2, cosl;
+        if (!toward_light(h, n, L->position, tooclose2, &l, &d, &d2, &cosl))
             continue;
         /* From the offset origin along l, as far as d: the offset is a few
         ** ulps of |p|, inside what shadow_reach leaves, so the ray still
@@ -271,17 +286,12 @@ ALWAYS_INLINE void spot_lights(tracer *t, const hit *h, const lc_material *m,
                                int filter)
 {
     const lc_scene *s = t->scene;
-    double tooclose2 = 16 * v3_dot(h->perr, h->perr);
+    double tooclose2 = too_close2(h);
     for (size_t i = 0; i < s->nspots; i++) {
         const spot_light *L = &s->spots[i];
-        lc_vec3 tol = v3_sub(L->d.position, h->p);
-        double d2 = v3_dot(tol, tol);
-        if (!(d2 > tooclose2))
-            continue;
-        double d = sqrt(d2);
-        lc_vec3 l = v3_mul(tol, 1.0 / d);
-        double cosl = v3_dot(n, l);
-        if (!(cosl > 0))
+        lc_vec3 l;
+        double d, d2, cosl;
+        if (!toward_light(h, n, L->d.position, tooclose2, &l, &d, &d2, &cosl))
             continue;
         double share = spot_share(L, v3_neg(l));
         if (!(share > 0))
