@@ -103,35 +103,27 @@ static int w_image_save(lua_State *L)
     return n >= 0 ? n : save_work(L, &o, 0);
 }
 
-/* lancer.load_exr(path): R, G, B and A when the file has it. */
-static int w_load_exr(lua_State *L)
+/* An image load(path, err) reads from the path at 1, pushed; the userdata
+** comes first, so an error after the load leaks nothing. */
+static int push_loaded(lua_State *L, lc_image *(*load)(const char *, lc_error *))
 {
     luaL_checktype(L, 1, LUA_TSTRING);
-    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);
     ui->img = NULL;
     luaL_setmetatable(L, IMAGE);
     lc_error err;
-    ui->img = lc_image_load_exr(lua_tostring(L, 1), &err);
+    ui->img = load(lua_tostring(L, 1), &err);
     if (!ui->img)
         return luaL_argerror(L, 1, err.msg);
     lancer_charge(L);
     return 1;
 }
 
+/* lancer.load_exr(path): R, G, B and A when the file has it. */
+static int w_load_exr(lua_State *L) { return push_loaded(L, lc_image_load_exr); }
+
 /* lancer.load_hdr(path): a Radiance .hdr image, linear. */
-static int w_load_hdr(lua_State *L)
-{
-    luaL_checktype(L, 1, LUA_TSTRING);
-    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
-    ui->img = NULL;
-    luaL_setmetatable(L, IMAGE);
-    lc_error err;
-    ui->img = lc_image_load_hdr(lua_tostring(L, 1), &err);
-    if (!ui->img)
-        return luaL_argerror(L, 1, err.msg);
-    lancer_charge(L);
-    return 1;
-}
+static int w_load_hdr(lua_State *L) { return push_loaded(L, lc_image_load_hdr); }
 
 /* lancer.merge_tiles(out, {part, ...}): the parts of one frame as the whole. */
 static int w_merge(lua_State *L)
