@@ -334,38 +334,43 @@ void csg_name_hit(const csg_tree *t, const hit *h, lc_ray_record *x)
     x->shape_kind = d->op == LC_CSG_SHAPE ? (int)d->shape.kind : LC_SHAPE_KINDS;
 }
 
-int csg_hit_uv(const csg_tree *t, const hit *h, double uv[2])
+/* The leaf a hit on t is on: its node rides in h->instance. */
+static const csg_leaf *leaf_of(const csg_tree *t, const hit *h)
 {
     int node = (int)h->instance - 1;
+    for (size_t i = 0; i < t->nleaves; i++)
+        if (t->leaves[i].node == node)
+            return &t->leaves[i];
+    return NULL;
+}
+
+int csg_hit_kind(const csg_tree *t, const hit *h)
+{
+    const csg_leaf *lf = leaf_of(t, h);
+    return lf ? lf->kind : LC_SHAPE_KINDS;
+}
+
+void csg_hit_uv(const csg_tree *t, const hit *h, double uv[2])
+{
+    const csg_leaf *lf = leaf_of(t, h);
     uv[0] = uv[1] = 0;
-    for (size_t i = 0; i < t->nleaves; i++) {
-        const csg_leaf *lf = &t->leaves[i];
-        if (lf->node != node)
-            continue;
-        if (lf->kind != LC_SHAPE_KINDS)
-            shape_uv((lc_shape_kind)lf->kind, &lf->g, h->p, uv);
-        return lf->kind;
-    }
-    return LC_SHAPE_KINDS;
+    if (lf && lf->kind != LC_SHAPE_KINDS)
+        shape_uv((lc_shape_kind)lf->kind, &lf->g, h->p, uv);
 }
 
 lc_vec3 csg_hit_object_point(const csg_tree *t, const hit *h)
 {
-    int node = (int)h->instance - 1;
-    for (size_t i = 0; i < t->nleaves; i++) {
-        const csg_leaf *lf = &t->leaves[i];
-        if (lf->node != node)
-            continue;
-        if (lf->kind == LC_SHAPE_KINDS)
-            return lf->xf ? lc_transform_point(&lf->xf->inv, h->p) : h->p;
-        if (lf->kind < LC_DISC || lf->kind > LC_ELLIPSOID || !lf->g.p.shape.moved)
-            return h->p;
-        lc_transform inv;
-        if (lc_transform_inverse(&lf->g.p.shape.xf, &inv, NULL))
-            return h->p;
-        return lc_transform_point(&inv, h->p);
-    }
-    return h->p;
+    const csg_leaf *lf = leaf_of(t, h);
+    if (!lf)
+        return h->p;
+    if (lf->kind == LC_SHAPE_KINDS)
+        return lf->xf ? lc_transform_point(&lf->xf->inv, h->p) : h->p;
+    if (lf->kind < LC_DISC || lf->kind > LC_ELLIPSOID || !lf->g.p.shape.moved)
+        return h->p;
+    lc_transform inv;
+    if (lc_transform_inverse(&lf->g.p.shape.xf, &inv, NULL))
+        return h->p;
+    return lc_transform_point(&inv, h->p);
 }
 
 /* ---- the sweep ------------------------------------------------------------------ */

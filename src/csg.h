@@ -161,10 +161,11 @@ int    csg_occluded(const csg_tree *t, const ray *r, const bvh_ray *b, double tm
 /* For explain: the leaf a hit on t names (its kind and node), in x; x->shape
 ** holds t's index among the scene's CSG objects. */
 void   csg_name_hit(const csg_tree *t, const hit *h, lc_ray_record *x);
-/* The leaf a hit on t is on: its kind (an lc_shape_kind, LC_SHAPE_KINDS for
-** a mesh) and its texture coordinates there, the shape's own (0, 0 on a
-** mesh leaf, whose faces carry none here). */
-int    csg_hit_uv(const csg_tree *t, const hit *h, double uv[2]);
+/* Of the leaf a hit on t is on: its kind (an lc_shape_kind, LC_SHAPE_KINDS
+** for a mesh), and its texture coordinates there, the shape's own (0, 0 on
+** a mesh leaf, whose faces carry none here). */
+int    csg_hit_kind(const csg_tree *t, const hit *h);
+void   csg_hit_uv(const csg_tree *t, const hit *h, double uv[2]);
 /* The hit point in its leaf's own space: a moved shape's or a placed
 ** mesh's, else the world's (textures' 'object' mapping). */
 lc_vec3 csg_hit_object_point(const csg_tree *t, const hit *h);

@@ -68,8 +68,7 @@ static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive
     *primitive = 0;
     if (pk == PRIM_CSG_FACE || pk == PRIM_CSG_CUT) {    /* a CSG object: its leaf's kind */
         const csg_tree *t = s->csgs[PRIM_INDEX(h->shape)];
-        double uv[2];
-        *kind = csg_hit_uv(t, h, uv);
+        *kind = csg_hit_kind(t, h);
         return t->id;
     }
     if (pk != PRIM_TRIANGLE) {
