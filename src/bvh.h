@@ -254,30 +254,46 @@ ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, 
         double t[4];
         unsigned m = test(nd, q, tmax, t);
         nn += nd->n;
-        /* The children met, nearest first; equal distances in slot order. */
-        bvh_entry e[4];
-        int h = 0;
-        while (m) {
-            unsigned c = (unsigned)__builtin_ctz(m);
-            m &= m - 1;
-            int j = h++;
-            while (j > 0 && e[j - 1].t > t[c]) {
-                e[j] = e[j - 1];
-                j--;
+        /* The children met, nearest first (equal distances in slot order),
+        ** the farther pushed farthest deepest; the nearest is taken now.
+        ** One or two met, the usual case, go without the sort. */
+        if (m) {
+            unsigned c = (unsigned)__builtin_ctz(m), rest = m & (m - 1);
+            uint32_t child = nd->child[c], count = nd->count[c];
+            if (rest && !(rest & (rest - 1))) {
+                unsigned d = (unsigned)__builtin_ctz(rest);
+                unsigned far = t[d] < t[c] ? c : d, near = c ^ d ^ far;
+                stack[sp].child = nd->child[far];
+                stack[sp].count = nd->count[far];
+                stack[sp++].t = t[far];
+                child = nd->child[near];
+                count = nd->count[near];
+            } else if (rest) {
+                bvh_entry e[4];
+                int h = 0;
+                while (m) {
+                    unsigned k = (unsigned)__builtin_ctz(m);
+                    m &= m - 1;
+                    int j = h++;
+                    while (j > 0 && e[j - 1].t > t[k]) {
+                        e[j] = e[j - 1];
+                        j--;
+                    }
+                    e[j].child = nd->child[k];
+                    e[j].count = nd->count[k];
+                    e[j].t = t[k];
+                }
+                for (int j = h - 1; j > 0; j--)
+                    stack[sp++] = e[j];
+                child = e[0].child;
+                count = e[0].count;
             }
-            e[j].child = nd->child[c];
-            e[j].count = nd->count[c];
-            e[j].t = t[c];
-        }
-        for (int j = h - 1; j > 0; j--)          /* the farthest deepest */
-            stack[sp++] = e[j];
-        if (h) {
-            if (e[0].count == 0) {
-                ni = e[0].child;
+            if (count == 0) {
+                ni = child;
                 continue;
             }
-            for (uint32_t k = 0; k < e[0].count; k++)
-                tmax = leaf(ctx, b->refs[e[0].child + k], tmax);
+            for (uint32_t k = 0; k < count; k++)
+                tmax = leaf(ctx, b->refs[child + k], tmax);
         }
         for (;;) {
             if (sp == 0)

@@ -208,13 +208,24 @@ static void object_ray_init(object_ray *q, const affine *x, const ray *r)
     triangle_shear_init(q->r.d, &q->sh);
 }
 
-static inline int face_hit(const lc_mesh *m, uint32_t f, const object_ray *q, double tmax,
-                           hit *h)
+/* The distance to face f, and its weights in bary; 0 for a miss. */
+static inline double face_t(const lc_mesh *m, uint32_t f, const object_ray *q, double tmax,
+                            double bary[3])
 {
     const uint32_t *ix = m->f + 3 * (size_t)f;
     const double *v = m->v;
-    return triangle_hit(v + 3 * (size_t)ix[0], v + 3 * (size_t)ix[1], v + 3 * (size_t)ix[2],
-                   &q->r, &q->sh, 0, tmax, h, h->bary);
+    return triangle_t(v + 3 * (size_t)ix[0], v + 3 * (size_t)ix[1], v + 3 * (size_t)ix[2],
+                      &q->r, &q->sh, 0, tmax, bary);
+}
+
+/* The nearest face's hit in object space, from its distance and weights. */
+static int face_finish(const lc_mesh *m, uint32_t f, const object_ray *q, double t,
+                       const double bary[3], hit *h)
+{
+    const uint32_t *ix = m->f + 3 * (size_t)f;
+    const double *v = m->v;
+    return triangle_finish(v + 3 * (size_t)ix[0], v + 3 * (size_t)ix[1],
+                           v + 3 * (size_t)ix[2], &q->r, t, bary, h);
 }
 
 /* The object-space hit on face f, in the world: the point from the moved
@@ -264,34 +275,36 @@ typedef struct {
     const object_ray *q;
     double   best;          /* 0: nothing yet */
     uint32_t best_k;
-    hit  *h, *tmp;
+    double   bary[3];       /* the nearest face's weights */
     uint64_t np;
 } face_search;
 
 static inline double closest_face(void *ctx, uint32_t k, double tmax)
 {
     face_search *c = ctx;
+    double w[3];
     c->np++;
-    if (face_hit(c->mesh, c->mb->face[k], c->q, tmax, c->tmp) &&
-        (c->best == 0 || c->tmp->t < c->best || (c->tmp->t == c->best && k < c->best_k))) {
-        c->best = c->tmp->t;
+    double t = face_t(c->mesh, c->mb->face[k], c->q, tmax, w);
+    if (t > 0 && (c->best == 0 || t < c->best || (t == c->best && k < c->best_k))) {
+        c->best = t;
         c->best_k = k;
-        *c->h = *c->tmp;
-        tmax = next_up(c->best);
+        for (int j = 0; j < 3; j++)
+            c->bary[j] = w[j];
+        tmax = next_up(t);
     }
     return tmax;
 }
 
 /* Sets up a search of instance i for ray r; 0 when its mesh has no face. */
 static int search_begin(const lc_scene *s, uint32_t i, const ray *r, object_ray *q,
-                        face_search *c, hit *h, hit *tmp)
+                        face_search *c)
 {
     const mesh_prim *mp = &s->meshes[i];
     const mesh_bvh *mb = &s->blas[mp->blas];
     if (!mb->bvh.nnodes)
         return 0;
     object_ray_init(q, mp->xf, r);
-    face_search init = {mp->mesh, mb, q, 0, 0, h, tmp, 0};
+    face_search init = {mp->mesh, mb, q, 0, 0, {0, 0, 0}, 0};
     *c = init;
     return 1;
 }
@@ -305,12 +318,11 @@ double instance_hit(const lc_scene *s, uint32_t i, const ray *r, double tmax,
 {
     object_ray q;
     face_search c;
-    hit tmp;
-    if (!search_begin(s, i, r, &q, &c, h, &tmp))
+    if (!search_begin(s, i, r, &q, &c))
         return 0;
     counts->nodes += closest_walk(&c.mb->bvh, &q.b, tmax, &c);
     counts->prims += c.np;
-    if (c.best == 0)
+    if (c.best == 0 || !face_finish(c.mesh, c.mb->face[c.best_k], &q, c.best, c.bary, h))
         return 0;
     to_world(&s->meshes[i], c.mb, c.best_k, h);
     h->instance = i + 1;
@@ -320,8 +332,9 @@ double instance_hit(const lc_scene *s, uint32_t i, const ray *r, double tmax,
 static inline int any_face(void *ctx, uint32_t k, double tmax)
 {
     face_search *c = ctx;
+    double w[3];
     c->np++;
-    return face_hit(c->mesh, c->mb->face[k], c->q, tmax, c->tmp);
+    return face_t(c->mesh, c->mb->face[k], c->q, tmax, w) > 0;
 }
 
 BVH_DISPATCH(int, any_walk,
@@ -333,8 +346,7 @@ int instance_occluded(const lc_scene *s, uint32_t i, const ray *r, double tmax,
 {
     object_ray q;
     face_search c;
-    hit tmp;
-    if (!search_begin(s, i, r, &q, &c, NULL, &tmp))
+    if (!search_begin(s, i, r, &q, &c))
         return 0;
     int found = any_walk(&c.mb->bvh, &q.b, tmax, &c, &counts->nodes);
     counts->prims += c.np;

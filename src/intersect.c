@@ -24,9 +24,10 @@ static void query_init(query *q, const ray *r, int triangles)
 }
 
 /* Distance to primitive id along the query's ray, 0 for a miss. Spheres,
-** boxes and planes compute the distance only (the nearest is finished
-** later); quads and triangles need most of the work anyway to know they
-** are hit, so they fill *full as they go. */
+** boxes, planes and the placed shapes compute the distance only, triangles
+** the distance and full->bary (the nearest is finished later); quads need
+** most of the work anyway to know they are hit, so they fill *full as they
+** go, as do the nested searches of instances and CSG objects. */
 ALWAYS_INLINE double prim_t(const lc_scene *s, uint32_t id, const query *q, double tmax,
                      hit *full, bvh_counts *inner)
 {
@@ -43,16 +44,13 @@ ALWAYS_INLINE double prim_t(const lc_scene *s, uint32_t id, const query *q, doub
             return 0;
         full->material = s->shapes[LC_QUAD].material[i];
         break;
-    default: {
+    default: {                    /* the distance and weights; the rest if nearest */
         const tri_ref *tr = &s->c.tris[i];
-        const mesh_prim *mp = &s->meshes[tr->mesh];
-        const uint32_t *f = mp->mesh->f + 3 * (size_t)tr->face;
-        const double *v = mp->mesh->v;
-        if (!triangle_hit(v + 3 * (size_t)f[0], v + 3 * (size_t)f[1], v + 3 * (size_t)f[2],
-                     q->r, &q->sh, 0, tmax, full, full->bary))
-            return 0;
-        full->material = mesh_face_material(mp, tr->face);
-        break;
+        const lc_mesh *m = s->meshes[tr->mesh].mesh;
+        const uint32_t *f = m->f + 3 * (size_t)tr->face;
+        const double *v = m->v;
+        return triangle_t(v + 3 * (size_t)f[0], v + 3 * (size_t)f[1], v + 3 * (size_t)f[2],
+                          q->r, &q->sh, 0, tmax, full->bary);
     }
     case PRIM_INSTANCE:           /* a moved mesh: its own BVH, in its own space */
         return instance_hit(s, i, q->r, tmax, full, inner);
@@ -105,6 +103,16 @@ static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t,
              k == LC_TORUS ? torus_hit(g, q->r, 0, HUGE_VAL, h) :
              ellipsoid_hit(g, q->r, 0, HUGE_VAL, h);
         h->material = s->shapes[k].material[i];
+        break;
+    }
+    case PRIM_TRIANGLE: {            /* h->bary: the weights triangle_t gave */
+        const tri_ref *tr = &s->c.tris[i];
+        const mesh_prim *mp = &s->meshes[tr->mesh];
+        const uint32_t *f = mp->mesh->f + 3 * (size_t)tr->face;
+        const double *v = mp->mesh->v;
+        ok = triangle_finish(v + 3 * (size_t)f[0], v + 3 * (size_t)f[1], v + 3 * (size_t)f[2],
+                             q->r, t, h->bary, h);
+        h->material = mesh_face_material(mp, tr->face);
         break;
     }
     default:
@@ -184,11 +192,10 @@ typedef struct {
 } closest;
 
 /* The kinds prim_t leaves complete, in *full. */
-#define COMPLETE ((1u << PRIM_QUAD) | (1u << PRIM_TRIANGLE) | (1u << PRIM_INSTANCE) | \
-                  (1u << PRIM_CSG))
+#define COMPLETE ((1u << PRIM_QUAD) | (1u << PRIM_INSTANCE) | (1u << PRIM_CSG))
 
 /* Ties in t go to the lower id, whatever order the BVH visits them in. */
-static inline double closest_leaf(void *ctx, uint32_t id, double tmax)
+ALWAYS_INLINE double closest_leaf(void *ctx, uint32_t id, double tmax)
 {
     closest *c = ctx;
     double t = prim_t(c->s, id, c->q, tmax, c->tmp, c->inner);
@@ -196,7 +203,11 @@ static inline double closest_leaf(void *ctx, uint32_t id, double tmax)
     if (t > 0 && (c->best == 0 || t < c->best || (t == c->best && id < c->best_id))) {
         c->best = t;
         c->best_id = id;
-        if ((COMPLETE >> PRIM_KIND(id)) & 1)
+        if (PRIM_KIND(id) == PRIM_TRIANGLE) {   /* prim_finish reads them */
+            c->h->bary[0] = c->tmp->bary[0];    /* (a loop became a call to memcpy) */
+            c->h->bary[1] = c->tmp->bary[1];
+            c->h->bary[2] = c->tmp->bary[2];
+        } else if ((COMPLETE >> PRIM_KIND(id)) & 1)
             *c->h = *c->tmp;
         tmax = next_up(t);
     }

@@ -27,6 +27,20 @@ static lc_status check_ray(const lc_ray *q, size_t i, lc_error *err)
     return LC_OK;
 }
 
+/* check_ray's verdict without its messages, for the rays that pass: an
+** origin within the coordinate range (so finite), a direction whose
+** square is finite and positive (so finite and not zero: what
+** validate_nonzero asks), and 0 <= tmin < tmax (so neither is NaN, and
+** tmin is not infinite). */
+static inline int ray_ok(const lc_ray *q)
+{
+    lc_vec3 o = q->origin, d = q->direction;
+    double dd = v3_dot(d, d);
+    return fabs(o.x) <= LC_MAX_COORD && fabs(o.y) <= LC_MAX_COORD &&
+           fabs(o.z) <= LC_MAX_COORD && dd > 0 && dd <= DBL_MAX && q->tmin >= 0 &&
+           q->tmin < q->tmax;
+}
+
 static cast cast_of(const lc_ray *q)
 {
     cast c;
@@ -47,7 +61,7 @@ static lc_status begin(lc_scene *s, const lc_ray *rays, size_t n, sig_atomic_t s
                        lc_error *err)
 {
     for (size_t i = 0; i < n; i++)
-        if (check_ray(&rays[i], i, err))
+        if (!ray_ok(&rays[i]) && check_ray(&rays[i], i, err))
             return LC_EARG;
     pthread_mutex_lock(&s->lock);
     lc_status st = compile_geometry(s, seen, err);

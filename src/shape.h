@@ -6,6 +6,7 @@
 
 #include "affine.h"
 #include "geom.h"
+#include "triangle.h"
 
 /* ---- Primitive ids ----------------------------------------------------------- */
 
@@ -234,16 +235,6 @@ static inline double plane_t(const plane_geom *g, const ray *r, const double *in
 
 /* ---- triangle.c (mesh faces: meshes own their listing and moving) ----------------- */
 
-/* Per-ray constants of the watertight triangle test. */
-typedef struct {
-    int    kx, ky, kz;
-    double sx, sy, sz;
-} triangle_shear;
-
-void triangle_shear_init(lc_vec3 d, triangle_shear *s);
-/* v0, v1, v2 point at 3 doubles each; fills bary with the weights of p. */
-int  triangle_hit(const double *v0, const double *v1, const double *v2, const ray *r,
-             const triangle_shear *s, double tmin, double tmax, hit *h, double bary[3]);
 /* A face that can never be hit: zero area (or an area beyond double). */
 int  triangle_degenerate(const double *a, const double *b, const double *c);
 /* Bounds of a face: its vertices are exact doubles, rounded outward. */
