@@ -1,4 +1,4 @@
-/* bvh_wide.c: the 4-wide nodes traversals read, collapsed from the binary tree. */
+/* bvh_wide.c: the wide nodes traversals read, collapsed from the binary tree. */
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,17 +8,23 @@
 /* ---- which box test ------------------------------------------------------------- */
 
 int bvh_simd;
-static int simd_ok;                     /* the processor can */
+static int simd_best;                   /* what the processor can */
 static pthread_once_t simd_once = PTHREAD_ONCE_INIT;
 
 static void simd_decide(void)
 {
 #if BVH_HAVE_SIMD
     __builtin_cpu_init();
-    simd_ok = __builtin_cpu_supports("avx");   /* checks the OS saves ymm, too */
+    /* Each checks that the OS saves the registers, too. */
+    simd_best = __builtin_cpu_supports("avx512f") ? BVH_SIMD_AVX512 :
+                __builtin_cpu_supports("avx") ? BVH_SIMD_AVX : BVH_SIMD_OFF;
 #endif
     const char *e = getenv("LANCER_SIMD");
-    bvh_simd = simd_ok && !(e && strcmp(e, "0") == 0);
+    bvh_simd = simd_best;
+    if (e && strcmp(e, "0") == 0)
+        bvh_simd = BVH_SIMD_OFF;
+    else if (e && strcmp(e, "1") == 0 && bvh_simd > BVH_SIMD_AVX)
+        bvh_simd = BVH_SIMD_AVX;
 }
 
 void bvh_simd_init(void)
@@ -26,11 +32,11 @@ void bvh_simd_init(void)
     pthread_once(&simd_once, simd_decide);
 }
 
-int bvh_simd_set(int on)
+int bvh_simd_set(int level)
 {
     bvh_simd_init();
     int was = bvh_simd;
-    bvh_simd = on && simd_ok;
+    bvh_simd = level < 0 ? BVH_SIMD_OFF : level < simd_best ? level : simd_best;
     return was;
 }
 
@@ -45,14 +51,14 @@ static float half_area(const bvh2_node *n)
 /* The binary nodes that become the children of the wide node for interior
 ** node ni: its two children, then while there is room the interior one of
 ** largest area replaced by its own two (Wald et al. 2008's collapse, as
-** Embree's BVH4 does it), kept in the binary tree's left-to-right order.
-** Returns how many (2..4). */
-static int gather(const bvh2_node *bn, uint32_t ni, uint32_t kids[4])
+** Embree makes its BVH4 and BVH8), kept in the binary tree's order.
+** Returns how many (2..BVH_WIDTH). */
+static int gather(const bvh2_node *bn, uint32_t ni, uint32_t kids[BVH_WIDTH])
 {
     int n = 2;
     kids[0] = ni + 1;
     kids[1] = bn[ni].start;
-    while (n < 4) {
+    while (n < BVH_WIDTH) {
         int best = -1;
         float ba = -1;
         for (int k = 0; k < n; k++) {
@@ -92,20 +98,20 @@ static void slot(bvh_node *w, int c, const bvh2_node *b)
 static uint32_t collapse(collapser *cl, uint32_t ni)
 {
     const bvh2_node *bn = cl->bn;
-    uint32_t kids[4];
+    uint32_t kids[BVH_WIDTH];
     int n = 1;
     kids[0] = ni;
     if (bn[ni].count == 0)
         n = gather(bn, ni, kids);
     uint32_t wi = (uint32_t)cl->n++;
-    uint32_t child[4] = {0, 0, 0, 0};
+    uint32_t child[BVH_WIDTH] = {0};
     for (int c = 0; c < n; c++)
         child[c] = bn[kids[c]].count ? bn[kids[c]].start : collapse(cl, kids[c]);
     if (!cl->w)
         return wi;
     bvh_node *w = &cl->w[wi];
     memset(w, 0, sizeof *w);
-    for (int c = 0; c < 4; c++)
+    for (int c = 0; c < BVH_WIDTH; c++)
         for (int k = 0; k < 3; k++) {
             w->lo[k][c] = HUGE_VALF;      /* empty: no ray meets it */
             w->hi[k][c] = -HUGE_VALF;

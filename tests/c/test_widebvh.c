@@ -274,11 +274,15 @@ static void check_ray(reference *ref, const ray *r, tally *t)
     memset(&a, 0, sizeof a);
     memset(&b, 0, sizeof b);
     memset(&c, 0, sizeof c);
-    bvh_counts ca = {0}, cb = {0};
+    bvh_counts ca = {0}, cb = {0}, cd = {0};
     use(ref, 0);
-    int was = bvh_simd_set(1);
+    int was = bvh_simd_set(BVH_SIMD_AVX512);     /* the best the processor has */
     int fa = intersect_closest(s, r, HUGE_VAL, &a, &ca);
-    bvh_simd_set(0);
+    bvh_simd_set(BVH_SIMD_AVX);
+    hit d;
+    memset(&d, 0, sizeof d);
+    int fd = intersect_closest(s, r, HUGE_VAL, &d, &cd);
+    bvh_simd_set(BVH_SIMD_OFF);
     int fb = intersect_closest(s, r, HUGE_VAL, &b, &cb);
     use(ref, 1);
     int fc = intersect_closest(s, r, HUGE_VAL, &c, NULL);
@@ -292,14 +296,15 @@ static void check_ray(reference *ref, const ray *r, tally *t)
             printf("closest case %d: bvh %d t=%.17g id=%x inst=%u  scan %d t=%.17g id=%x inst=%u\n",
                    dbg_case, fa, a.t, a.shape, a.instance, fc, c.t, c.shape, c.instance);
     }
-    if (!same_hit(fa, &a, fb, &b) || ca.nodes != cb.nodes || ca.prims != cb.prims)
+    if (!same_hit(fa, &a, fb, &b) || ca.nodes != cb.nodes || ca.prims != cb.prims ||
+        !same_hit(fa, &a, fd, &d) || ca.nodes != cd.nodes || ca.prims != cd.prims)
         t->simd_mismatches++;
     /* any hit, up to infinity and up to a random fraction of the hit */
     double cut = fc ? c.t * range(0.5, 1.5) : range(1, 40);
     int oc = intersect_occluded(s, r, cut, NULL);
     use(ref, 0);
     int ob = intersect_occluded(s, r, cut, NULL);
-    bvh_simd_set(1);
+    bvh_simd_set(BVH_SIMD_AVX512);
     int oa = intersect_occluded(s, r, cut, NULL), ai = intersect_occluded(s, r, HUGE_VAL, NULL);
     bvh_simd_set(was);
     t->occluded_checks++;
@@ -543,10 +548,16 @@ static int exact_interval(const double o[3], const double d[3], const double lo[
 }
 
 /* The SIMD box test, where the processor has it. */
-BVH_SIMD_TARGET static unsigned simd_test(const bvh_node *nd, const bvh_ray *q, double tmax,
-                                          double t[4])
+BVH_AVX_TARGET static unsigned avx_test(const bvh_node *nd, const bvh_ray *q, double tmax,
+                                        double t[BVH_WIDTH])
 {
-    return bvh_test_simd(nd, q, tmax, t);
+    return bvh_test_avx(nd, q, tmax, t);
+}
+
+BVH_AVX512_TARGET static unsigned avx512_test(const bvh_node *nd, const bvh_ray *q,
+                                              double tmax, double t[BVH_WIDTH])
+{
+    return bvh_test_avx512(nd, q, tmax, t);
 }
 
 /* Rays at box corners, edges and faces, along faces and from them: each
@@ -557,26 +568,30 @@ static void box_test_is_conservative(void **state)
 {
     (void)state;
     bvh_node nd __attribute__((aligned(64)));
-    int was = bvh_simd_set(1), simd = bvh_simd;
+    int was = bvh_simd_set(BVH_SIMD_AVX512), best = bvh_simd;
     bvh_simd_set(was);
     long cases = 0, tight = 0, culled = 0, differ = 0, meet = 0;
     for (int i = 0; i < 200000; i++) {
         memset(&nd, 0, sizeof nd);
-        nd.n = 4;
-        double lo[4][3], hi[4][3];
+        nd.n = BVH_WIDTH - (uint32_t)(i % 3 == 0 ? rnd() * (BVH_WIDTH - 1) : 0);
+        double lo[BVH_WIDTH][3], hi[BVH_WIDTH][3];
         double scale = pow(10, range(-4, 5)), shift = rnd() < 0.3 ? pow(10, range(0, 6)) : 0;
-        for (uint32_t c = 0; c < 4; c++)
+        for (uint32_t c = 0; c < BVH_WIDTH; c++)
             for (int k = 0; k < 3; k++) {
                 float a = (float)(shift + scale * range(-1, 1));
                 float b = (float)(shift + scale * range(-1, 1));
                 if (i % 7 == 0 && c == 1)
                     b = a;                                   /* flat box */
-                nd.lo[k][c] = a < b ? a : b;
-                nd.hi[k][c] = a < b ? b : a;
+                if (c >= nd.n) {                             /* empty, as collapse leaves it */
+                    a = HUGE_VALF;
+                    b = -HUGE_VALF;
+                }
+                nd.lo[k][c] = c >= nd.n || a < b ? a : b;
+                nd.hi[k][c] = c >= nd.n || a < b ? b : a;
                 lo[c][k] = nd.lo[k][c];
                 hi[c][k] = nd.hi[k][c];
             }
-        uint32_t c = (uint32_t)(rnd() * 4);
+        uint32_t c = (uint32_t)(rnd() * nd.n);
         lc_vec3 o = v3_add(v3(shift, shift, shift), v3_mul(rvec(-3, 3), scale));
         lc_vec3 target = on_box(lo[c], hi[c]);
         lc_vec3 d = v3_norm(v3_sub(target, o));
@@ -601,19 +616,20 @@ static void box_test_is_conservative(void **state)
         bvh_ray q;
         bvh_ray_init(&q, o, d);
         double tmax = rnd() < 0.2 ? scale * range(0.5, 5) : HUGE_VAL;
-        double ts[4], tv[4];
+        double ts[BVH_WIDTH], tv[BVH_WIDTH];
         unsigned ms = bvh_test_scalar(&nd, &q, tmax, ts);
-        unsigned mv = ms;
-        if (simd) {
-            mv = simd_test(&nd, &q, tmax, tv);
-            for (uint32_t b = 0; b < 4; b++)      /* the entry distances of boxes met */
+        /* Each SIMD test the processor has agrees with the scalar one. */
+        for (int level = BVH_SIMD_AVX; level <= best; level++) {
+            unsigned mv = level == BVH_SIMD_AVX ? avx_test(&nd, &q, tmax, tv)
+                                                : avx512_test(&nd, &q, tmax, tv);
+            for (uint32_t b = 0; b < nd.n; b++)     /* the entry distances of boxes met */
                 if ((ms >> b & 1) && memcmp(&ts[b], &tv[b], sizeof *ts))
                     differ++;
+            if (mv != ms)
+                differ++;
         }
-        if (mv != ms)
-            differ++;
         double od[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
-        for (uint32_t b = 0; b < 4; b++) {
+        for (uint32_t b = 0; b < nd.n; b++) {
             long double t0, t1;
             if (!exact_interval(od, dd, lo[b], hi[b], tmax, &t0, &t1))
                 continue;
@@ -690,10 +706,10 @@ static void images_do_not_depend_on_simd_or_threads(void **state)
     l.position = (lc_vec3){4, 14, -10};
     l.intensity = 300;
     assert_int_equal(lc_scene_add_light(s, &l, &err) >= 0, 1);
-    int was = bvh_simd_set(1);
+    int was = bvh_simd_set(BVH_SIMD_AVX512);
     lc_image *ref = render(s, 1);
     int differ = 0;
-    for (int simd = 0; simd < 2; simd++)
+    for (int simd = 0; simd < BVH_SIMD_LEVELS; simd++)
         for (int threads = 1; threads <= 3; threads++) {
             bvh_simd_set(simd);
             lc_image *img = render(s, threads);
@@ -701,7 +717,8 @@ static void images_do_not_depend_on_simd_or_threads(void **state)
             lc_image_free(img);
         }
     bvh_simd_set(was);
-    printf("images: %d of 6 differ (SIMD on and off, 1 to 3 threads)\n", differ);
+    printf("images: %d of %d differ (no SIMD, AVX, AVX-512; 1 to 3 threads)\n", differ,
+           3 * BVH_SIMD_LEVELS);
     assert_int_equal(differ, 0);
     lc_image_free(ref);
     lc_scene_free(s);
