@@ -229,7 +229,7 @@ int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
     size_t nplanes = s->shapes[LC_PLANE].n;
     closest c = {s, &q, 0, 0, h, &tmp, nplanes, counts ? counts : &spare};
     for (size_t i = 0; i < nplanes; i++) {      /* planes first: they bound tmax */
-        double t = plane_t(planes + i, q.r, q.b.inv, 0, tmax);
+        double t = plane_query_t(planes + i, q.r, q.b.o, q.b.inv, tmax);
         if (t > 0 && (c.best == 0 || t < c.best)) {   /* in id order: a tie keeps the first */
             c.best = t;
             c.best_id = PRIM_ID(PRIM_PLANE, i);
@@ -297,7 +297,7 @@ static int occluded(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
     const plane_geom *planes = PLANES(s);
     size_t nplanes = s->shapes[LC_PLANE].n;
     for (size_t i = 0; i < nplanes; i++)
-        if (plane_t(planes + i, q.r, q.b.inv, 0, tmax) > 0) {
+        if (plane_query_t(planes + i, q.r, q.b.o, q.b.inv, tmax) > 0) {
             *np += i + 1;
             return 1;
         }

@@ -30,6 +30,7 @@ void plane_prepare(const lc_shape *s, plane_geom *g)
     /* After the normal is final: (0, 49, 0) normalises to 1 - 2^-53, and a
     ** k from that made rays leaving the plane y = 1 hit it again. */
     g->k = v3_dot(g->n, g->p);
+    g->at = g->axis >= 0 ? v3_comp(g->p, g->axis) : 0;
 }
 
 void plane_describe(const plane_geom *g, lc_shape *s)

@@ -179,6 +179,7 @@ typedef struct {
     lc_vec3 n;         /* unit normal */
     lc_vec3 p;         /* a point on it */
     double  k;         /* n.p */
+    double  at;        /* axis >= 0: p's coordinate on that axis */
     int     axis;      /* 0..2 when n is along an axis, else -1 */
 } plane_geom;
 
@@ -221,6 +222,21 @@ static inline double plane_distance(lc_vec3 n, lc_vec3 p, int axis, const ray *r
         t = num / denom;
     }
     return t > tmin && t < tmax ? t : 0;   /* NaN and inf fail here */
+}
+
+/* plane_t from (0, tmax) for the tracer's loops over every plane, with the
+** ray's origin and reciprocals as arrays (bvh_ray's): an axis plane is one
+** subtraction and one product, indexed, the same operations as
+** plane_distance's, so the same bits. (B1's six walls: every ray tests
+** them.) */
+static inline double plane_query_t(const plane_geom *g, const ray *r, const double o[3],
+                                   const double inv[3], double tmax)
+{
+    if (g->axis >= 0) {
+        double t = (g->at - o[g->axis]) * inv[g->axis];
+        return t > 0 && t < tmax ? t : 0;
+    }
+    return plane_distance(g->n, g->p, -1, r, inv, 0, tmax);
 }
 
 /* Shared by plane and quad: puts p back onto the plane n.x = k. */
