@@ -13,52 +13,6 @@
 #define MAX_LEAF 8        /* a leaf never holds more, unless the prims cannot be split */
 #define TRAVERSAL_COST 0.5f  /* one node visit, relative to one primitive test */
 
-/* The float one ulp from finite f toward -inf (down) or +inf: nextafterf
-** without the call, which was half the time of bounding 2M triangles. */
-static float float_step(float f, int up)
-{
-    if (f == 0)
-        return up ? 0x1p-149f : -0x1p-149f;          /* the smallest denormals */
-    uint32_t u;
-    memcpy(&u, &f, sizeof u);
-    if ((f > 0) == (up > 0))
-        u++;
-    else
-        u--;
-    memcpy(&f, &u, sizeof f);
-    return f;
-}
-
-/* Bounds never subnormal: a nonzero bound below 2^-125 in magnitude moves
-** outward, to 0 or to -+2^-125 (whose half, in a centroid, is still
-** normal). A sphere resting on y = 0 has its lower bound one step below
-** 0, which was the smallest subnormal float: every centroid of B2's 1M
-** spheres took the processor's slow path for subnormals, and building
-** their BVH took 2.6 times as long as for the same spheres lifted off the
-** ground. Real shapes are at least 1e-30 (about 2^-100) across, so the
-** slack is nothing beside them. */
-#define BOUND_TINY 0x1p-125f
-
-float bvh_down(double x)
-{
-    float f = (float)x;
-    if ((double)f > x)
-        f = float_step(f, 0);
-    if (f != 0 && fabsf(f) < BOUND_TINY)
-        f = f > 0 ? 0.0f : -BOUND_TINY;
-    return f;
-}
-
-float bvh_up(double x)
-{
-    float f = (float)x;
-    if ((double)f < x)
-        f = float_step(f, 1);
-    if (f != 0 && fabsf(f) < BOUND_TINY)
-        f = f < 0 ? 0.0f : BOUND_TINY;
-    return f;
-}
-
 void bvh_bounds_empty(float lo[3], float hi[3])
 {
     for (int k = 0; k < 3; k++) {
@@ -90,23 +44,75 @@ void bvh_bounds_grow(float lo[3], float hi[3], lc_vec3 p)
     }
 }
 
-typedef struct { float lo[3], hi[3]; } box3;
+/* Boxes padded to four floats an end, so that SSE grows all three axes in
+** one minimum and one maximum (the fourth lane is never read). Minima and
+** maxima of the same floats, in any order, are the same floats: the tree
+** is the one the scalar code built (the sign of a zero bound may differ,
+** which no slab test can tell). */
+typedef struct { float lo[4], hi[4]; } box3;
 
 static void box_empty(box3 *b)
 {
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 4; k++) {
         b->lo[k] = INFINITY;
         b->hi[k] = -INFINITY;
     }
 }
 
-static void box_grow(box3 *b, const float lo[3], const float hi[3])
+#if defined(__SSE2__)
+#include <emmintrin.h>
+/* An item's lo and hi as four floats each: lo[0..2] and hi[0]; hi[0..2]
+** and hi[2] again, read from lo[2] on and shuffled. (Not the id as the
+** fourth float: a small id is a subnormal float, and the centroid's
+** arithmetic on it made the build twice as slow.) */
+static inline __m128 item_lo(const bvh_item *it) { return _mm_loadu_ps(it->lo); }
+static inline __m128 item_hi(const bvh_item *it)
+{
+    __m128 x = _mm_loadu_ps(it->lo + 2);
+    return _mm_shuffle_ps(x, x, _MM_SHUFFLE(3, 3, 2, 1));
+}
+
+static inline void box_grow_item(box3 *b, const bvh_item *it)
+{
+    _mm_storeu_ps(b->lo, _mm_min_ps(item_lo(it), _mm_loadu_ps(b->lo)));
+    _mm_storeu_ps(b->hi, _mm_max_ps(item_hi(it), _mm_loadu_ps(b->hi)));
+}
+
+static inline void box_merge(box3 *b, const box3 *a)
+{
+    _mm_storeu_ps(b->lo, _mm_min_ps(_mm_loadu_ps(a->lo), _mm_loadu_ps(b->lo)));
+    _mm_storeu_ps(b->hi, _mm_max_ps(_mm_loadu_ps(a->hi), _mm_loadu_ps(b->hi)));
+}
+
+/* The box of an item's centroid: 0.5 lo + 0.5 hi, lane by lane, as
+** centroid() computes each. */
+static inline void box_grow_centroid(box3 *b, const bvh_item *it)
+{
+    const __m128 half = _mm_set1_ps(0.5f);
+    __m128 c = _mm_add_ps(_mm_mul_ps(half, item_lo(it)), _mm_mul_ps(half, item_hi(it)));
+    _mm_storeu_ps(b->lo, _mm_min_ps(c, _mm_loadu_ps(b->lo)));
+    _mm_storeu_ps(b->hi, _mm_max_ps(c, _mm_loadu_ps(b->hi)));
+}
+#else
+static inline void box_grow3(box3 *b, const float lo[3], const float hi[3])
 {
     for (int k = 0; k < 3; k++) {
         if (lo[k] < b->lo[k]) b->lo[k] = lo[k];
         if (hi[k] > b->hi[k]) b->hi[k] = hi[k];
     }
 }
+
+static inline void box_grow_item(box3 *b, const bvh_item *it) { box_grow3(b, it->lo, it->hi); }
+static inline void box_merge(box3 *b, const box3 *a) { box_grow3(b, a->lo, a->hi); }
+
+static inline void box_grow_centroid(box3 *b, const bvh_item *it)
+{
+    float c[3];
+    for (int k = 0; k < 3; k++)
+        c[k] = 0.5f * it->lo[k] + 0.5f * it->hi[k];
+    box_grow3(b, c, c);
+}
+#endif
 
 static float box_area(const box3 *b)
 {
@@ -190,9 +196,8 @@ static void make_leaf(builder *bd, uint32_t ni, size_t begin, size_t n, const bo
 /* A side of a split grows by an item: its bounds and its centroid. */
 static inline void grow_side(box3 *bounds, box3 *cb, const item *it)
 {
-    float c[3] = {centroid(it, 0), centroid(it, 1), centroid(it, 2)};
-    box_grow(bounds, it->lo, it->hi);
-    box_grow(cb, c, c);
+    box_grow_item(bounds, it);
+    box_grow_centroid(cb, it);
 }
 
 /* Bounds and centroid bounds of items[begin, end). */
@@ -200,12 +205,8 @@ static void measure(const builder *bd, size_t begin, size_t end, box3 *bounds, b
 {
     box_empty(bounds);
     box_empty(cb);
-    for (size_t i = begin; i < end; i++) {
-        const item *it = &bd->items[i];
-        float c[3] = {centroid(it, 0), centroid(it, 1), centroid(it, 2)};
-        box_grow(bounds, it->lo, it->hi);
-        box_grow(cb, c, c);
-    }
+    for (size_t i = begin; i < end; i++)
+        grow_side(bounds, cb, &bd->items[i]);
 }
 
 /* Builds the subtree for items[begin, end) into node ni. Binned SAH: of the
@@ -253,7 +254,7 @@ static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bound
             int bi = bin_of(&items[i], axis, cb.lo[axis], scale);
             count[bi]++;
             weight[bi] += item_cost(bd, &items[i]);
-            box_grow(&bin[bi], items[i].lo, items[i].hi);
+            box_grow_item(&bin[bi], &items[i]);
         }
         float rarea[BINS];
         double rweight[BINS], w = 0;
@@ -261,7 +262,7 @@ static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bound
         box3 acc;
         box_empty(&acc);
         for (int i = BINS - 1; i > 0; i--) {
-            box_grow(&acc, bin[i].lo, bin[i].hi);
+            box_merge(&acc, &bin[i]);
             cnt += count[i];
             w += weight[i];
             rarea[i] = box_area(&acc);
@@ -275,7 +276,7 @@ static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bound
         float best = INFINITY;
         int split = -1;
         for (int i = 0; i < BINS - 1; i++) {
-            box_grow(&acc, bin[i].lo, bin[i].hi);
+            box_merge(&acc, &bin[i]);
             cnt += count[i];
             w += weight[i];
             if (cnt == 0 || rcount[i + 1] == 0)

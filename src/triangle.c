@@ -11,13 +11,21 @@ int triangle_degenerate(const double *a, const double *b, const double *c)
     return !(l > 0 && isfinite(l));
 }
 
+/* The corners' least and greatest coordinates, each rounded outward once:
+** bvh_down and bvh_up never decrease, so this is the box of the three
+** points rounded one by one, for a third of the roundings. */
 void triangle_bounds(const double *a, const double *b, const double *c, float lo[3],
                 float hi[3])
 {
-    bvh_bounds_empty(lo, hi);
-    bvh_bounds_exact(lo, hi, a);
-    bvh_bounds_exact(lo, hi, b);
-    bvh_bounds_exact(lo, hi, c);
+    for (int k = 0; k < 3; k++) {
+        double mn = a[k], mx = a[k];
+        if (b[k] < mn) mn = b[k];
+        if (b[k] > mx) mx = b[k];
+        if (c[k] < mn) mn = c[k];
+        if (c[k] > mx) mx = c[k];
+        lo[k] = bvh_down(mn);
+        hi[k] = bvh_up(mx);
+    }
 }
 
 void triangle_shear_init(lc_vec3 d, triangle_shear *s)
