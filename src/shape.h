@@ -6,6 +6,7 @@
 
 #include "affine.h"
 #include "geom.h"
+#include "sphere.h"
 #include "triangle.h"
 
 /* ---- Primitive ids ----------------------------------------------------------- */
@@ -71,13 +72,6 @@ static inline void shape_move_edges(const lc_transform *t, const lc_shape *s, lc
 
 /* ---- sphere.c ------------------------------------------------------------------- */
 
-typedef struct {
-    lc_vec3 c;
-    double  r;
-    double  r2;        /* r*r, or 0 when that under- or overflows: never hit */
-    double  extent;    /* r + |c.x| + |c.y| + |c.z|: the scale of its rounding */
-} sphere_geom;
-
 /* What sampling a sphere light needs at one shaded point: the cone it subtends. */
 typedef struct {
     lc_vec3 tc, axis;      /* centre - p, and its direction */
@@ -95,7 +89,7 @@ void      sphere_bounds(const sphere_geom *g, float lo[3], float hi[3]);
 /* Each fills *h and returns 1 for the nearest hit with tmin < t < tmax,
 ** else returns 0 and leaves *h untouched; the *_t forms return the distance
 ** only (0 for a miss): enough to find the nearest hit, finished later. */
-double    sphere_t(const sphere_geom *g, const ray *r, double tmin, double tmax);
+/* sphere_t: sphere.h. */
 int       sphere_hit(const sphere_geom *g, const ray *r, double tmin, double tmax,
                      hit *h);
 /* Texture coordinates of a point p on the shape (each kind's convention:
