@@ -1,6 +1,7 @@
 /* compile.c: what a render needs from the scene: the BVH over every bounded
 ** primitive (moved meshes as one primitive each), the triangle list, and the
 ** effects the frame calls for. */
+#include <pthread.h>
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
@@ -73,6 +74,37 @@ static const float prim_cost[16] = {
     [PRIM_CONE] = 4, [PRIM_TORUS] = 8, [PRIM_ELLIPSOID] = 3, [PRIM_CSG] = 8,
     [PRIM_CSG_FACE] = 1, [PRIM_CSG_CUT] = 1, [15] = 1};
 
+/* Bounds of the flat triangles [begin, end) into items, on a thread of
+** their own for half of a large mesh: 4M faces took a quarter of a second
+** on one core, writing 112 MB of items the kernel had just mapped. */
+typedef struct {
+    const lc_scene *s;
+    bvh_item *items;          /* items[i] for triangle i */
+    size_t    begin, end;
+    sig_atomic_t seen;
+    int       cancelled;
+} bound_job;
+
+static void *bound_triangles(void *arg)
+{
+    bound_job *j = arg;
+    const compiled *c = &j->s->c;
+    for (size_t i = j->begin; i < j->end; i++) {
+        if ((i & 0xffff) == 0xffff && interrupt_count() != j->seen) {
+            j->cancelled = 1;
+            return NULL;
+        }
+        const lc_mesh *m = j->s->meshes[c->tris[i].mesh].mesh;
+        const uint32_t *ix = m->f + 3 * c->tris[i].face;
+        bvh_item *it = &j->items[i];
+        it->id = PRIM_ID(PRIM_TRIANGLE, i);
+        triangle_bounds(m->v + 3 * ix[0], m->v + 3 * ix[1], m->v + 3 * ix[2], it->lo, it->hi);
+    }
+    return NULL;
+}
+
+#define PARALLEL_BOUNDS 200000   /* below this a thread costs more than it saves */
+
 static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
 {
     compiled *c = &s->c;
@@ -93,16 +125,20 @@ static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
             shape_bounds((lc_shape_kind)k, shape_at(l, i), it->lo, it->hi);
         }
     }
-    for (size_t i = 0; i < c->nflat; i++, it++) {
-        if ((i & 0xffff) == 0xffff && interrupt_count() != seen) {
-            mem_free(items);
-            return error_fail(err, LC_ECANCEL, NULL, "render cancelled");
-        }
-        const lc_mesh *m = s->meshes[c->tris[i].mesh].mesh;
-        const uint32_t *ix = m->f + 3 * c->tris[i].face;
-        it->id = PRIM_ID(PRIM_TRIANGLE, i);
-        triangle_bounds(m->v + 3 * ix[0], m->v + 3 * ix[1], m->v + 3 * ix[2], it->lo, it->hi);
+    size_t half = c->nflat >= PARALLEL_BOUNDS ? c->nflat / 2 : c->nflat;
+    bound_job jobs[2] = {{s, it, 0, half, seen, 0}, {s, it, half, c->nflat, seen, 0}};
+    pthread_t th;
+    int threaded = half < c->nflat && pthread_create(&th, NULL, bound_triangles, &jobs[1]) == 0;
+    bound_triangles(&jobs[0]);
+    if (threaded)
+        pthread_join(th, NULL);
+    else
+        bound_triangles(&jobs[1]);        /* empty unless the thread failed to start */
+    if (jobs[0].cancelled || jobs[1].cancelled) {
+        mem_free(items);
+        return error_fail(err, LC_ECANCEL, NULL, "render cancelled");
     }
+    it += c->nflat;
     for (size_t i = 0; i < s->nmeshes; i++)
         if (s->meshes[i].xf) {
             it->id = PRIM_ID(PRIM_INSTANCE, i);
