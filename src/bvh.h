@@ -329,10 +329,11 @@ typedef struct {
 
 /* Closest hit: visits the leaves that may hold a hit nearer than tmax,
 ** nearer children first, skipping one once a hit lies before it.
-** leaf(ctx, ref, tmax) tests one primitive and returns tmax, shrunk when
+** leaf(ctx, at, tmax) tests the primitive refs[at] (the position lets a
+** caller keep data in leaf order beside refs) and returns tmax, shrunk when
 ** it found a nearer hit. Returns the number of box tests. */
 ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
-                                   double (*leaf)(void *ctx, uint32_t ref, double tmax),
+                                   double (*leaf)(void *ctx, uint32_t at, double tmax),
                                    unsigned (*test)(const bvh_node *, const bvh_ray *, double,
                                                     double *))
 {
@@ -386,7 +387,7 @@ ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, 
                 continue;
             }
             for (uint32_t k = 0; k < count; k++)
-                tmax = leaf(ctx, b->refs[child + k], tmax);
+                tmax = leaf(ctx, child + k, tmax);
         }
         for (;;) {
             if (sp == 0)
@@ -399,16 +400,16 @@ ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, 
                 break;
             }
             for (uint32_t k = 0; k < p->count; k++)
-                tmax = leaf(ctx, b->refs[p->child + k], tmax);
+                tmax = leaf(ctx, p->child + k, tmax);
         }
     }
 }
 
-/* Any hit: leaf(ctx, ref, tmax) returns nonzero when the primitive blocks
+/* Any hit: leaf(ctx, at, tmax) returns nonzero when refs[at] blocks
 ** the ray, which ends the search. Returns 1 if one did; *nodes counts the
 ** box tests. Children are taken in slot order: any blocker will do. */
 ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
-                          int (*leaf)(void *ctx, uint32_t ref, double tmax), uint64_t *nodes,
+                          int (*leaf)(void *ctx, uint32_t at, double tmax), uint64_t *nodes,
                           unsigned (*test)(const bvh_node *, const bvh_ray *, double,
                                            double *))
 {
@@ -428,7 +429,7 @@ ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx
             m &= m - 1;
             if (nd->count[c]) {
                 for (uint32_t k = 0; k < nd->count[c]; k++)
-                    if (leaf(ctx, b->refs[nd->child[c] + k], tmax))
+                    if (leaf(ctx, nd->child[c] + k, tmax))
                         return 1;
             } else if (!descend) {
                 descend = 1;
@@ -471,24 +472,24 @@ ALWAYS_INLINE int bvh_test_lone(const bvh_node *nd, const bvh_ray *q, double tma
 
 ALWAYS_INLINE uint64_t bvh_closest_lone(const bvh *b, const bvh_ray *q, double tmax,
                                         void *ctx,
-                                        double (*leaf)(void *ctx, uint32_t ref, double tmax))
+                                        double (*leaf)(void *ctx, uint32_t at, double tmax))
 {
     const bvh_node *nd = &b->nodes[0];
     if (bvh_test_lone(nd, q, tmax))
         for (uint32_t k = 0; k < nd->count[0]; k++)
-            tmax = leaf(ctx, b->refs[nd->child[0] + k], tmax);
+            tmax = leaf(ctx, nd->child[0] + k, tmax);
     return 1;
 }
 
 ALWAYS_INLINE int bvh_any_lone(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
-                               int (*leaf)(void *ctx, uint32_t ref, double tmax),
+                               int (*leaf)(void *ctx, uint32_t at, double tmax),
                                uint64_t *nodes)
 {
     const bvh_node *nd = &b->nodes[0];
     ++*nodes;
     if (bvh_test_lone(nd, q, tmax))
         for (uint32_t k = 0; k < nd->count[0]; k++)
-            if (leaf(ctx, b->refs[nd->child[0] + k], tmax))
+            if (leaf(ctx, nd->child[0] + k, tmax))
                 return 1;
     return 0;
 }

@@ -19,6 +19,7 @@ void compile_free(compiled *c)
     sky_dist_free(&c->sky);
     mem_free(c->plan);
     mem_free(c->tris);
+    mem_free(c->tleaf);
     bvh_free(&c->bvh);
     memset(c, 0, sizeof *c);
 }
@@ -149,7 +150,29 @@ static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
         it->id = PRIM_ID(PRIM_CSG, i);
         csg_bounds(s->csgs[i], it->lo, it->hi);
     }
-    return bvh_build_costed(&c->bvh, items, n, prim_cost, seen, err);
+    lc_status st = bvh_build_costed(&c->bvh, items, n, prim_cost, seen, err);
+    if (st != LC_OK || c->nflat == 0)
+        return st;
+    c->tleaf = compile_tri_leaves(s, &c->bvh);
+    if (!c->tleaf)
+        return error_fail(err, LC_ENOMEM, NULL, "out of memory listing %zu triangles", c->nflat);
+    return LC_OK;
+}
+
+tri_leaf *compile_tri_leaves(const lc_scene *s, const bvh *b)
+{
+    tri_leaf *tl = mem_alloc((b->nrefs + 1) * sizeof *tl);
+    if (!tl)
+        return NULL;
+    for (size_t r = 0; r < b->nrefs; r++) {
+        uint32_t id = b->refs[r];
+        if (PRIM_KIND(id) != PRIM_TRIANGLE)
+            continue;
+        const tri_ref *tr = &s->c.tris[PRIM_INDEX(id)];
+        const uint32_t *ix = s->meshes[tr->mesh].mesh->f + 3 * (size_t)tr->face;
+        tl[r] = (tri_leaf){tr->mesh, {ix[0], ix[1], ix[2]}};
+    }
+    return tl;
 }
 
 /* A material reflects through a cone when it has one wider than an ulp of a

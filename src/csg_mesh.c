@@ -220,9 +220,10 @@ typedef struct {
     uint64_t tests;
 } collect;
 
-static inline double collect_face(void *ctx, uint32_t k, double tmax)
+static inline double collect_face(void *ctx, uint32_t at, double tmax)
 {
     collect *c = ctx;
+    uint32_t k = c->cm->bvh.refs[at];
     const lc_mesh *m = c->cm->mesh;
     const uint32_t *ix = m->f + 3 * (size_t)c->cm->face[k];
     const double *v = m->v;

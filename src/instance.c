@@ -279,9 +279,10 @@ typedef struct {
     uint64_t np;
 } face_search;
 
-static inline double closest_face(void *ctx, uint32_t k, double tmax)
+static inline double closest_face(void *ctx, uint32_t at, double tmax)
 {
     face_search *c = ctx;
+    uint32_t k = c->mb->bvh.refs[at];
     double w[3];
     c->np++;
     double t = face_t(c->mesh, c->mb->face[k], c->q, tmax, w);
@@ -329,9 +330,10 @@ double instance_hit(const lc_scene *s, uint32_t i, const ray *r, double tmax,
     return c.best;
 }
 
-static inline int any_face(void *ctx, uint32_t k, double tmax)
+static inline int any_face(void *ctx, uint32_t at, double tmax)
 {
     face_search *c = ctx;
+    uint32_t k = c->mb->bvh.refs[at];
     double w[3];
     c->np++;
     return face_t(c->mesh, c->mb->face[k], c->q, tmax, w) > 0;

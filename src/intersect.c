@@ -28,8 +28,8 @@ static void query_init(query *q, const ray *r, int triangles)
 ** the distance and full->bary (the nearest is finished later); quads need
 ** most of the work anyway to know they are hit, so they fill *full as they
 ** go, as do the nested searches of instances and CSG objects. */
-ALWAYS_INLINE double prim_t(const lc_scene *s, uint32_t id, const query *q, double tmax,
-                     hit *full, bvh_counts *inner)
+ALWAYS_INLINE double prim_t(const lc_scene *s, uint32_t id, uint32_t at, const query *q,
+                            double tmax, hit *full, bvh_counts *inner)
 {
     uint32_t i = PRIM_INDEX(id);
     switch (PRIM_KIND(id)) {
@@ -45,12 +45,10 @@ ALWAYS_INLINE double prim_t(const lc_scene *s, uint32_t id, const query *q, doub
         full->material = s->shapes[LC_QUAD].material[i];
         break;
     default: {                    /* the distance and weights; the rest if nearest */
-        const tri_ref *tr = &s->c.tris[i];
-        const lc_mesh *m = s->meshes[tr->mesh].mesh;
-        const uint32_t *f = m->f + 3 * (size_t)tr->face;
-        const double *v = m->v;
-        return triangle_t(v + 3 * (size_t)f[0], v + 3 * (size_t)f[1], v + 3 * (size_t)f[2],
-                          q->r, &q->sh, 0, tmax, full->bary);
+        const tri_leaf *tl = &s->c.tleaf[at];     /* beside refs[at]: no face lookup */
+        const double *v = s->meshes[tl->mesh].mesh->v;
+        return triangle_t(v + 3 * (size_t)tl->v[0], v + 3 * (size_t)tl->v[1],
+                          v + 3 * (size_t)tl->v[2], q->r, &q->sh, 0, tmax, full->bary);
     }
     case PRIM_INSTANCE:           /* a moved mesh: its own BVH, in its own space */
         return instance_hit(s, i, q->r, tmax, full, inner);
@@ -195,10 +193,11 @@ typedef struct {
 #define COMPLETE ((1u << PRIM_QUAD) | (1u << PRIM_INSTANCE) | (1u << PRIM_CSG))
 
 /* Ties in t go to the lower id, whatever order the BVH visits them in. */
-ALWAYS_INLINE double closest_leaf(void *ctx, uint32_t id, double tmax)
+ALWAYS_INLINE double closest_leaf(void *ctx, uint32_t at, double tmax)
 {
     closest *c = ctx;
-    double t = prim_t(c->s, id, c->q, tmax, c->tmp, c->inner);
+    uint32_t id = c->s->c.bvh.refs[at];
+    double t = prim_t(c->s, id, at, c->q, tmax, c->tmp, c->inner);
     c->np++;
     if (t > 0 && (c->best == 0 || t < c->best || (t == c->best && id < c->best_id))) {
         c->best = t;
@@ -274,15 +273,16 @@ static int any_nested(any *a, uint32_t id, double tmax)
     return found;
 }
 
-static inline int any_leaf(void *ctx, uint32_t id, double tmax)
+static inline int any_leaf(void *ctx, uint32_t at, double tmax)
 {
     any *a = ctx;
+    uint32_t id = a->s->c.bvh.refs[at];
     if (id == a->skip)
         return 0;
     ++a->np;
     if ((NESTED >> PRIM_KIND(id)) & 1)
         return any_nested(a, id, tmax);
-    return prim_t(a->s, id, a->q, tmax, a->tmp, NULL) > 0;   /* not nested */
+    return prim_t(a->s, id, at, a->q, tmax, a->tmp, NULL) > 0;   /* not nested */
 }
 
 BVH_DISPATCH(int, any_walk, (const bvh *b, const bvh_ray *q, double tmax, any *a),

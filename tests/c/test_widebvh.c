@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
+#include "mem.h"
 #include "scene.h"
 
 #define M_PI 3.14159265358979323846
@@ -216,6 +217,7 @@ static void flat_free(bvh *f)
 typedef struct {
     lc_scene *s;
     bvh real, flat, *blas_real, *blas_flat;
+    tri_leaf *tleaf_real, *tleaf_flat;    /* the triangles beside each one's refs */
 } reference;
 
 static void reference_init(reference *r, lc_scene *s)
@@ -223,6 +225,8 @@ static void reference_init(reference *r, lc_scene *s)
     r->s = s;
     r->real = s->c.bvh;
     r->flat = flat_of(&s->c.bvh);
+    r->tleaf_real = s->c.tleaf;
+    r->tleaf_flat = s->c.ntris ? compile_tri_leaves(s, &r->flat) : NULL;
     r->blas_real = malloc((s->nblas + 1) * sizeof *r->blas_real);
     r->blas_flat = malloc((s->nblas + 1) * sizeof *r->blas_flat);
     for (size_t i = 0; i < s->nblas; i++) {
@@ -234,6 +238,7 @@ static void reference_init(reference *r, lc_scene *s)
 static void use(reference *r, int flat)
 {
     r->s->c.bvh = flat ? r->flat : r->real;
+    r->s->c.tleaf = flat ? r->tleaf_flat : r->tleaf_real;
     for (size_t i = 0; i < r->s->nblas; i++)
         r->s->blas[i].bvh = flat ? r->blas_flat[i] : r->blas_real[i];
 }
@@ -241,6 +246,7 @@ static void use(reference *r, int flat)
 static void reference_free(reference *r)
 {
     use(r, 0);
+    mem_free(r->tleaf_flat);
     flat_free(&r->flat);
     for (size_t i = 0; i < r->s->nblas; i++)
         flat_free(&r->blas_flat[i]);
