@@ -153,7 +153,7 @@ static radiance lights_at(tracer *t, const hit *h, const bsdf *b, radiance beta,
         f = bsdf_eval(b, l, &pdf);
         if (!(r_max(f) > 0) ||
             !shadow_ray(t, h, l, d, NULL, LC_RAY_SHADOW, (int)i, INTERSECT_SKIP_NONE,
-                        &rec, filter, &tr, 0))
+                        &rec, filter, &tr, 0, t->log))
             continue;
         double k = PI * L->intensity / (L->falloff == LC_FALLOFF_INVERSE_SQUARE ? d2 : 1);
         radiance e = r_scale(rad(L->color), radiance_cap(k * c));
@@ -171,7 +171,7 @@ static radiance lights_at(tracer *t, const hit *h, const bsdf *b, radiance beta,
         f = bsdf_eval(b, l, &pdf);
         if (!(r_max(f) > 0) ||
             !shadow_ray(t, h, l, d, NULL, LC_RAY_SHADOW, EXPLAIN_SPOT(i), INTERSECT_SKIP_NONE,
-                        &rec, filter, &tr, 0))
+                        &rec, filter, &tr, 0, t->log))
             continue;
         double k = PI * L->d.intensity * share /
                    (L->d.falloff == LC_FALLOFF_INVERSE_SQUARE ? d2 : 1);
@@ -186,7 +186,7 @@ static radiance lights_at(tracer *t, const hit *h, const bsdf *b, radiance beta,
         f = bsdf_eval(b, L->to, &pdf);
         if (!(r_max(f) > 0) ||
             !shadow_ray(t, h, L->to, HUGE_VAL, NULL, LC_RAY_SHADOW, EXPLAIN_SUN(i),
-                        INTERSECT_SKIP_NONE, &rec, filter, &tr, 1))
+                        INTERSECT_SKIP_NONE, &rec, filter, &tr, 1, t->log))
             continue;
         radiance e = r_scale(rad(L->d.color), radiance_cap(L->d.irradiance * c));
         acc = r_add(acc, r_mul(r_mul(f, filter ? r_mul(e, tr) : e), beta));
@@ -210,7 +210,7 @@ static radiance lights_at(tracer *t, const hit *h, const bsdf *b, radiance beta,
         f = bsdf_eval(b, ls1.l, &pdf);
         if (!(r_max(f) > 0) ||
             !shadow_ray(t, h, ls1.l, ls1.dist, NULL, LC_RAY_LIGHT, -1 - (int)i, em->prim,
-                        &rec, filter, &tr, 0))
+                        &rec, filter, &tr, 0, t->log))
             continue;
         /* k = 1 / (pi pdf): the sample's light is L cos / pdf = pi k L cos. */
         double w = emitter_mis(em) ? power(1 / (PI * ls1.k), pdf) : 1;
@@ -227,7 +227,7 @@ static radiance lights_at(tracer *t, const hit *h, const bsdf *b, radiance beta,
             f = bsdf_eval(b, l, &pdf);
             if (r_max(f) > 0 &&
                 shadow_ray(t, h, l, HUGE_VAL, NULL, LC_RAY_LIGHT, EXPLAIN_SKY,
-                           INTERSECT_SKIP_NONE, &rec, filter, &tr, 1)) {
+                           INTERSECT_SKIP_NONE, &rec, filter, &tr, 1, t->log)) {
                 radiance e = r_scale(sky_seen(s, l), c * power(ps, pdf) / ps);
                 acc = r_add(acc, r_mul(r_mul(f, filter ? r_mul(e, tr) : e), beta));
             }

@@ -26,6 +26,14 @@ static inline radiance r_scale(radiance a, double k)
     radiance r = {radiance_cap(a.r * k), radiance_cap(a.g * k), radiance_cap(a.b * k)};
     return r;
 }
+/* a (capped: finite) times k in [0, 1] (within a rounding): it cannot grow
+** past the cap by more than an ulp, so no cap of its own; for the cosine of
+** every light at every point (S7's parity). */
+static inline radiance r_scale_unit(radiance a, double k)
+{
+    radiance r = {a.r * k, a.g * k, a.b * k};
+    return r;
+}
 static inline radiance r_add(radiance a, radiance b)
 {
     radiance r = {radiance_cap(a.r + b.r), radiance_cap(a.g + b.g), radiance_cap(a.b + b.b)};

@@ -12,12 +12,12 @@
 ** or with spot or directional lights (LIGHTS_APART), out of the path loop. */
 NEVER_INLINE void lights_apart(tracer *t, const hit *h, const lc_material *m,
                                unsigned plan, lc_vec3 n, lc_vec3 v, uint32_t index,
-                               uint32_t count, int depth, light_sum *sum)
+                               uint32_t count, int depth, light_sum *sum, ray_log *lg)
 {
     if (t->needs & LC_NEED_FILTER)
-        lights_all(t, h, m, plan, n, v, index, count, depth, sum, 1);
+        lights_all(t, h, m, plan, n, v, index, count, depth, sum, 1, lg);
     else
-        lights_all(t, h, m, plan, n, v, index, count, depth, sum, 0);
+        lights_all(t, h, m, plan, n, v, index, count, depth, sum, 0, lg);
 }
 
 /* Where a path stands in the pixel's sample set: camera sample `index` of
@@ -64,6 +64,10 @@ static double cone_sample(tracer *t, const lc_material *m, lc_vec3 a, lc_vec3 n,
 
 static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radiance w,
                            int rec, const media *md);
+static radiance trace_opaque(tracer *t, const ray *r0, path pa, int split, radiance w,
+                             int rec, const media *md);
+/* The needs that take a path off trace_opaque (trace_special). */
+#define TRACE_SPECIAL (LC_NEED_REFRACT | LC_NEED_AO | LC_NEED_INDIRECT | TRACE_AOV)
 
 /* Ambient occlusion (render option ao; Tachyon's): the share of ao_samples
 ** probes, cosine-weighted about n and stratified over the pixel's samples,
@@ -131,6 +135,8 @@ radiance shade_ray(tracer *t, const ray *r0, uint32_t index, uint32_t count)
     path pa = {index, count, 0, 0, 0, 0};
     radiance one = {1, 1, 1};
     static const media air;     /* a camera is in air */
+    if (!t->log && !(t->needs & TRACE_SPECIAL))   /* trace_path's first choice, */
+        return trace_opaque(t, r0, pa, 0, one, -1, &air);   /* without its call */
     int rec = t->log ? explain_ray(t->log, -1, LC_RAY_CAMERA, r0) : -1;
     return trace_path(t, r0, pa, 0, one, rec, &air);
 }
@@ -277,6 +283,9 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
     const branch *b;           /* the branch the loop goes on with */
     branch go;
     int cls = AOV_CAMERA;      /* aov: the class of the path being followed */
+    /* The light loops' explain record: NULL, a constant, unless explaining,
+    ** so a render runs none of their recording tests (S7: 1 % of the trace). */
+    ray_log *lg = log ? t->log : NULL;
     for (;;) {
         hit h;
         if (!intersect_closest(s, &r, HUGE_VAL, &h, &t->counts)) {
@@ -323,15 +332,15 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
         if (plan & PLAN_LIGHTS) {
             if (t->needs & LIGHTS_APART) {
                 t->media = &md;
-                lights_apart(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth, &sum);
+                lights_apart(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth, &sum, lg);
             } else {
                 if (t->needs & LC_NEED_SHADOW)
-                    point_lights(t, &h, m, plan, n, v, &sum, 0);
+                    point_lights(t, &h, m, plan, n, v, &sum, 0, lg);
                 if (t->needs & LC_NEED_EMITTER)
-                    emitters(t, &h, m, plan, n, v, &sum, 0);
+                    emitters(t, &h, m, plan, n, v, &sum, 0, lg);
                 if (t->needs & LC_NEED_AREA)
                     area_lights(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth,
-                                &sum, 0);
+                                &sum, 0, lg);
             }
         }
 
@@ -342,15 +351,17 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
                 amb = r_scale(amb, ambient_open(t, &h, n, &pa));
             base = r_add(base, amb);
         }
-        radiance spec = r_scale(sum.specular, m->ks);            /* ks H^a Cs */
-        radiance local, next, color = rad(m->color);
-        if (m->absorb == LC_ABSORB_ALL) {     /* the seed: absorption after the sum */
-            local = r_mul(color, r_add(base, spec));
-            next = r_scale(r_mul(w, color), m->kr);
-        } else {
-            local = r_add(r_mul(color, base), spec);
-            next = r_scale(w, m->kr);
-        }
+        /* Without highlights sum.specular is 0 and adding it changes no bit
+        ** (base has no -0): a diffuse hit skips the sum, as it skips the
+        ** weight of the reflection it does not trace (S7's parity). */
+        int specular = (plan & PLAN_SPECULAR) != 0;
+        radiance local, color = rad(m->color);
+        if (m->absorb == LC_ABSORB_ALL)       /* the seed: absorption after the sum */
+            local = r_mul(color, specular ? r_add(base, r_scale(sum.specular, m->ks)) : base);
+        else if (specular)                                    /* ks H^a Cs */
+            local = r_add(r_mul(color, base), r_scale(sum.specular, m->ks));
+        else
+            local = r_mul(color, base);
         radiance lit = local;
         if (plan & PLAN_EMITS)
             local = r_add(local, rad(m->emission));
@@ -387,6 +398,8 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
             b = &go;
             goto follow;
         }
+        radiance next = m->absorb == LC_ABSORB_ALL ? r_scale(r_mul(w, color), m->kr)
+                                                   : r_scale(w, m->kr);
         /* Adaptive depth (POV-Ray's adc_bailout): a bounce that can add at
         ** most cutoff times what it sees is not traced. */
         if (r_max(next) < t->cutoff) {
@@ -503,7 +516,7 @@ static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radianc
     if (t->log)
         return t->needs & LC_NEED_INDIRECT ? path_radiance(t, r0, pa.index, pa.count, rec)
                                            : trace_explain(t, r0, pa, split, w, rec, md);
-    if (t->needs & (LC_NEED_REFRACT | LC_NEED_AO | LC_NEED_INDIRECT | TRACE_AOV))
+    if (t->needs & TRACE_SPECIAL)
         return trace_special(t, r0, pa, split, w, rec, md);
     return trace_opaque(t, r0, pa, split, w, rec, md);
 }

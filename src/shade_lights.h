@@ -19,9 +19,11 @@ typedef struct {
 ** explaining, also records what it adds to the pixel on shadow record rec. */
 ALWAYS_INLINE void add_light(const tracer *t, const lc_material *m, unsigned plan,
                             lc_vec3 n, lc_vec3 v, lc_vec3 l, double cosl, radiance lc,
-                            light_sum *sum, int rec)
+                            light_sum *sum, int rec, ray_log *lg)
 {
-    radiance d = r_scale(lc, t->cosine ? cosl : 1.0), sp = {0, 0, 0};
+    /* cosl in (0, 1] within a rounding (the callers keep only n.l > 0), lc
+    ** capped: the product stays finite, and the sums it goes into are capped. */
+    radiance d = r_scale_unit(lc, t->cosine ? cosl : 1.0), sp = {0, 0, 0};
     sum->diffuse = r_add(sum->diffuse, d);
     if (plan & PLAN_SPECULAR) {
         lc_vec3 R = v3_sub(v3_mul(n, 2 * cosl), l);
@@ -31,8 +33,8 @@ ALWAYS_INLINE void add_light(const tracer *t, const lc_material *m, unsigned pla
             sum->specular = r_add(sum->specular, sp);
         }
     }
-    if (t->log)
-        explain_light(t->log, rec, m, d, sp);
+    if (lg)
+        explain_light(lg, rec, m, d, sp);
 }
 
 /* What a shadow ray keeps crossing a surface of m between the indices n1
@@ -111,7 +113,8 @@ static int shadow_filter(tracer *t, ray sr, double reach, int aim, uint32_t skip
 ** colour. far (a constant): a directional light, reach infinite. */
 ALWAYS_INLINE int shadow_ray(tracer *t, const hit *h, lc_vec3 l, double reach,
                            const lc_vec3 *aim, lc_ray_kind kind, int light,
-                           uint32_t skip, int *rec, int filter, radiance *f, int far)
+                           uint32_t skip, int *rec, int filter, radiance *f, int far,
+                           ray_log *lg)
 {
     *rec = -1;
     if (!t->shadows) {
@@ -125,8 +128,8 @@ ALWAYS_INLINE int shadow_ray(tracer *t, const hit *h, lc_vec3 l, double reach,
         sr.d = v3_mul(so, 1.0 / reach);
     }
     t->rays[kind]++;
-    if (t->log)
-        *rec = explain_shadow(t->log, kind, &sr, light, reach);
+    if (lg)
+        *rec = explain_shadow(lg, kind, &sr, light, reach);
     double tmax = far ? HUGE_VAL : shadow_reach(sr.o, reach);
     int blocked;
     if (filter) {
@@ -138,8 +141,8 @@ ALWAYS_INLINE int shadow_ray(tracer *t, const hit *h, lc_vec3 l, double reach,
     } else {
         blocked = intersect_occluded_skip(t->scene, &sr, tmax, skip, &t->counts);
     }
-    if (!blocked && t->log)
-        explain_visible(t->log, *rec);
+    if (!blocked && lg)
+        explain_visible(lg, *rec);
     return !blocked;
 }
 
@@ -167,7 +170,7 @@ ALWAYS_INLINE int toward_light(const hit *h, lc_vec3 n, lc_vec3 pos, double tooc
 ** opaque scenes run have no trace of the filtered shadows. */
 ALWAYS_INLINE void point_lights(tracer *t, const hit *h, const lc_material *m,
                                 unsigned plan, lc_vec3 n, lc_vec3 v, light_sum *sum,
-                                int filter)
+                                int filter, ray_log *lg)
 {
     const lc_scene *s = t->scene;
     double tooclose2 = too_close2(h);
@@ -183,7 +186,7 @@ ALWAYS_INLINE void point_lights(tracer *t, const hit *h, const lc_material *m,
         int rec;
         radiance f;
         if (!shadow_ray(t, h, l, d, NULL, LC_RAY_SHADOW, (int)i, INTERSECT_SKIP_NONE,
-                        &rec, filter, &f, 0))
+                        &rec, filter, &f, 0, lg))
             continue;
         double k = L->intensity;
         if (L->falloff == LC_FALLOFF_INVERSE_SQUARE)
@@ -191,7 +194,7 @@ ALWAYS_INLINE void point_lights(tracer *t, const hit *h, const lc_material *m,
         radiance lc = r_scale(rad(L->color), radiance_cap(k));
         if (filter)
             lc = r_mul(lc, f);
-        add_light(t, m, plan, n, v, l, cosl, lc, sum, rec);
+        add_light(t, m, plan, n, v, l, cosl, lc, sum, rec, lg);
     }
 }
 
@@ -200,7 +203,7 @@ ALWAYS_INLINE void point_lights(tracer *t, const hit *h, const lc_material *m,
 ** E the irradiance of the whole shape seen from the point: exact for a
 ** sphere (pi L (r/d)^2 cos), projected area over d^2 for quads and boxes. */
 ALWAYS_INLINE void emitters(tracer *t, const hit *h, const lc_material *m, unsigned plan,
-                            lc_vec3 n, lc_vec3 v, light_sum *sum, int filter)
+                            lc_vec3 n, lc_vec3 v, light_sum *sum, int filter, ray_log *lg)
 {
     const lc_scene *s = t->scene;
     double tooclose = 4 * v3_len(h->perr);
@@ -219,7 +222,7 @@ ALWAYS_INLINE void emitters(tracer *t, const hit *h, const lc_material *m, unsig
         int rec;
         radiance f;
         if (!shadow_ray(t, h, l, d, &e->target, LC_RAY_SHADOW, -1 - (int)i, e->prim,
-                        &rec, filter, &f, 0))
+                        &rec, filter, &f, 0, lg))
             continue;
         double k = shape_light_centre(e->kind, shape_at(&s->shapes[e->kind], e->index), l, d);
         if (k > 1)                  /* no shape gives more than its radiance */
@@ -227,7 +230,7 @@ ALWAYS_INLINE void emitters(tracer *t, const hit *h, const lc_material *m, unsig
         radiance lc = r_scale(rad(e->emission), k);
         if (filter)
             lc = r_mul(lc, f);
-        add_light(t, m, plan, n, v, l, cosl, lc, sum, rec);
+        add_light(t, m, plan, n, v, l, cosl, lc, sum, rec, lg);
     }
 }
 
@@ -239,7 +242,7 @@ ALWAYS_INLINE void emitters(tracer *t, const hit *h, const lc_material *m, unsig
 ** the centre-ray model (exact for an unshadowed sphere). */
 ALWAYS_INLINE void area_lights(tracer *t, const hit *h, const lc_material *m,
                                unsigned plan, lc_vec3 n, lc_vec3 v, uint32_t index,
-                               uint32_t count, int depth, light_sum *sum, int filter)
+                               uint32_t count, int depth, light_sum *sum, int filter, ray_log *lg)
 {
     const lc_scene *s = t->scene;
     uint32_t S = (uint32_t)t->light_samples, all = sample_nested_count(count, S);
@@ -269,12 +272,12 @@ ALWAYS_INLINE void area_lights(tracer *t, const hit *h, const lc_material *m,
             int rec;
             radiance f;
             if (!shadow_ray(t, h, ls1.l, ls1.dist, NULL, LC_RAY_LIGHT, -1 - (int)i, e->prim,
-                            &rec, filter, &f, 0))
+                            &rec, filter, &f, 0, lg))
                 continue;
             radiance lc = r_scale(rad(e->emission), radiance_cap(ls1.k));
             if (filter)
                 lc = r_mul(lc, f);
-            add_light(t, m, plan, n, v, ls1.l, cosl, lc, sum, rec);
+            add_light(t, m, plan, n, v, ls1.l, cosl, lc, sum, rec, lg);
         }
     }
 }
@@ -283,7 +286,7 @@ ALWAYS_INLINE void area_lights(tracer *t, const hit *h, const lc_material *m,
 ** outside the cone takes no shadow ray. */
 ALWAYS_INLINE void spot_lights(tracer *t, const hit *h, const lc_material *m,
                                unsigned plan, lc_vec3 n, lc_vec3 v, light_sum *sum,
-                               int filter)
+                               int filter, ray_log *lg)
 {
     const lc_scene *s = t->scene;
     double tooclose2 = too_close2(h);
@@ -299,7 +302,7 @@ ALWAYS_INLINE void spot_lights(tracer *t, const hit *h, const lc_material *m,
         int rec;
         radiance f;
         if (!shadow_ray(t, h, l, d, NULL, LC_RAY_SHADOW, EXPLAIN_SPOT(i),
-                        INTERSECT_SKIP_NONE, &rec, filter, &f, 0))
+                        INTERSECT_SKIP_NONE, &rec, filter, &f, 0, lg))
             continue;
         double k = L->d.intensity * share;
         if (L->d.falloff == LC_FALLOFF_INVERSE_SQUARE)
@@ -307,7 +310,7 @@ ALWAYS_INLINE void spot_lights(tracer *t, const hit *h, const lc_material *m,
         radiance lc = r_scale(rad(L->d.color), radiance_cap(k));
         if (filter)
             lc = r_mul(lc, f);
-        add_light(t, m, plan, n, v, l, cosl, lc, sum, rec);
+        add_light(t, m, plan, n, v, l, cosl, lc, sum, rec, lg);
     }
 }
 
@@ -315,7 +318,7 @@ ALWAYS_INLINE void spot_lights(tracer *t, const hit *h, const lc_material *m,
 ** shadow ray goes to infinity. */
 ALWAYS_INLINE void sun_lights(tracer *t, const hit *h, const lc_material *m,
                               unsigned plan, lc_vec3 n, lc_vec3 v, light_sum *sum,
-                              int filter)
+                              int filter, ray_log *lg)
 {
     const lc_scene *s = t->scene;
     for (size_t i = 0; i < s->nsuns; i++) {
@@ -326,12 +329,12 @@ ALWAYS_INLINE void sun_lights(tracer *t, const hit *h, const lc_material *m,
         int rec;
         radiance f;
         if (!shadow_ray(t, h, L->to, HUGE_VAL, NULL, LC_RAY_SHADOW, EXPLAIN_SUN(i),
-                        INTERSECT_SKIP_NONE, &rec, filter, &f, 1))
+                        INTERSECT_SKIP_NONE, &rec, filter, &f, 1, lg))
             continue;
         radiance lc = r_scale(rad(L->d.color), radiance_cap(L->k));
         if (filter)
             lc = r_mul(lc, f);
-        add_light(t, m, plan, n, v, L->to, cosl, lc, sum, rec);
+        add_light(t, m, plan, n, v, L->to, cosl, lc, sum, rec, lg);
     }
 }
 
@@ -342,18 +345,18 @@ ALWAYS_INLINE void sun_lights(tracer *t, const hit *h, const lc_material *m,
 ** of its two copies. */
 ALWAYS_INLINE void lights_all(tracer *t, const hit *h, const lc_material *m,
                               unsigned plan, lc_vec3 n, lc_vec3 v, uint32_t index,
-                              uint32_t count, int depth, light_sum *sum, int filter)
+                              uint32_t count, int depth, light_sum *sum, int filter, ray_log *lg)
 {
     if (t->needs & LC_NEED_SHADOW)
-        point_lights(t, h, m, plan, n, v, sum, filter);
+        point_lights(t, h, m, plan, n, v, sum, filter, lg);
     if (t->needs & LC_NEED_SPOT)
-        spot_lights(t, h, m, plan, n, v, sum, filter);
+        spot_lights(t, h, m, plan, n, v, sum, filter, lg);
     if (t->needs & LC_NEED_SUN)
-        sun_lights(t, h, m, plan, n, v, sum, filter);
+        sun_lights(t, h, m, plan, n, v, sum, filter, lg);
     if (t->needs & LC_NEED_EMITTER)
-        emitters(t, h, m, plan, n, v, sum, filter);
+        emitters(t, h, m, plan, n, v, sum, filter, lg);
     if (t->needs & LC_NEED_AREA)
-        area_lights(t, h, m, plan, n, v, index, count, depth, sum, filter);
+        area_lights(t, h, m, plan, n, v, index, count, depth, sum, filter, lg);
 }
 
 /* The needs that take the light loops out of line. */
