@@ -64,8 +64,6 @@ static double cone_sample(tracer *t, const lc_material *m, lc_vec3 a, lc_vec3 n,
 
 static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radiance w,
                            int rec, const media *md);
-static radiance trace_opaque(tracer *t, const ray *r0, path pa, int split, radiance w,
-                             int rec, const media *md);
 /* The needs that take a path off trace_opaque (trace_special). */
 #define TRACE_SPECIAL (LC_NEED_REFRACT | LC_NEED_AO | LC_NEED_INDIRECT | TRACE_AOV)
 
@@ -135,8 +133,6 @@ radiance shade_ray(tracer *t, const ray *r0, uint32_t index, uint32_t count)
     path pa = {index, count, 0, 0, 0, 0};
     radiance one = {1, 1, 1};
     static const media air;     /* a camera is in air */
-    if (!t->log && !(t->needs & TRACE_SPECIAL))   /* trace_path's first choice, */
-        return trace_opaque(t, r0, pa, 0, one, -1, &air);   /* without its call */
     int rec = t->log ? explain_ray(t->log, -1, LC_RAY_CAMERA, r0) : -1;
     return trace_path(t, r0, pa, 0, one, rec, &air);
 }
