@@ -10,6 +10,7 @@
 #define HEADER 16
 
 static size_t used, cap;                 /* bytes; cap 0: none */
+static size_t high;                      /* the most used since the last reset */
 static __thread size_t refused;          /* the cap that refused this thread's last */
 
 size_t lc_memory_cap(size_t bytes)
@@ -20,6 +21,16 @@ size_t lc_memory_cap(size_t bytes)
 size_t lc_memory_used(void)
 {
     return __atomic_load_n(&used, __ATOMIC_RELAXED);
+}
+
+size_t mem_high_water(void)
+{
+    return __atomic_load_n(&high, __ATOMIC_RELAXED);
+}
+
+void mem_high_water_reset(void)
+{
+    __atomic_store_n(&high, lc_memory_used(), __ATOMIC_RELAXED);
 }
 
 size_t mem_refused_cap(void)
@@ -39,6 +50,10 @@ static int take(size_t n)
         refused = limit;
         return 0;
     }
+    size_t h = __atomic_load_n(&high, __ATOMIC_RELAXED);
+    while (now > h && !__atomic_compare_exchange_n(&high, &h, now, 1, __ATOMIC_RELAXED,
+                                                    __ATOMIC_RELAXED))
+        ;
     return 1;
 }
 

@@ -136,6 +136,32 @@ static void memory_cap_refuses_and_recovers(void **state)
     lc_image_free(img);
 }
 
+/* The high-water mark the benchmarks read: the most held at once since a
+** reset, refusals not counted, and after a reset what is held now. */
+static void memory_high_water_is_the_most_held(void **state)
+{
+    (void)state;
+    mem_high_water_reset();
+    size_t used = lc_memory_used();
+    assert_int_equal(mem_high_water(), used);
+    void *a = mem_alloc(300000), *b = mem_alloc(200000);
+    assert_non_null(a);
+    assert_non_null(b);
+    mem_free(a);
+    void *c = mem_alloc(100000);
+    assert_non_null(c);
+    assert_int_equal(mem_high_water(), used + 500000);
+    assert_int_equal(lc_memory_cap(used + 400000), 0);
+    assert_null(mem_alloc(400000));                  /* refused: not counted */
+    assert_int_equal(mem_high_water(), used + 500000);
+    lc_memory_cap(0);
+    mem_free(b);
+    mem_free(c);
+    assert_int_equal(lc_memory_used(), used);
+    mem_high_water_reset();
+    assert_int_equal(mem_high_water(), used);
+}
+
 /* ---- the BVH build ------------------------------------------------------------ */
 
 /* Items spanning all of float (a sphere of radius 1e39 once gave them, and
@@ -437,6 +463,7 @@ int main(void)
         cmocka_unit_test(obj_refuses_coordinates_out_of_range),
         cmocka_unit_test(obj_out_of_memory_names_the_line),
         cmocka_unit_test(memory_cap_refuses_and_recovers),
+        cmocka_unit_test(memory_high_water_is_the_most_held),
         cmocka_unit_test(bvh_builds_over_infinite_bounds),
         cmocka_unit_test(interrupt_stops_the_build),
         cmocka_unit_test(save_refuses_what_is_not_a_file),

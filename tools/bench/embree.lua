@@ -70,11 +70,14 @@ function M.section(ctx)
         "`rtcIntersect1` / `rtcOccluded1`, %d threads each, the same ray arrays " ..
         "(double for lancer, rounded to float for Embree), interleaved (lancer, " ..
         "Embree, lancer, ...); medians of %d runs. Times in seconds; ratio = lancer / " ..
-        "Embree (< 1: lancer faster). Build = BVH build from the loaded geometry.",
+        "Embree (< 1: lancer faster). Build = BVH build from the loaded geometry. " ..
+        "Memory: each side's own bytes for the scene, lancer / Embree (lancer's " ..
+        "counted allocations, Embree's memory monitor), once built and at the " ..
+        "build's peak; the process peak holds both sides and the ray arrays.",
         ctx.threads, ctx.quick and 3 or 5), "",
     "| scene | build | primary | shadow | primary + shadow | incoherent | " ..
-    "incoherent Mrays/s | lancer peak MB |",
-    "|---|---|---|---|---|---|---|---|"}
+    "incoherent Mrays/s | memory MB, held (build peak) | process peak MB |",
+    "|---|---|---|---|---|---|---|---|---|"}
   local checks, agree_lines = {}, {}
   M.write_torus(ctx.out .. "/torus4k.obj")
   for _, case in ipairs(M.CASES) do
@@ -89,14 +92,17 @@ function M.section(ctx)
       local p = r.status == 0 and parse(r.log)
       if not (p and p.build and p.primary) then
         ctx.say("  lc-raycast failed; the end of %s:\n%s", log, ctx.run.tail(r.log, 6))
-        lines[#lines + 1] = fmt("| %s | failed | | | | | | |", case.label)
+        lines[#lines + 1] = fmt("| %s | failed | | | | | | | |", case.label)
       else
         local function cell(t) return fmt("%.3f / %.3f (%.2fx)", t.lancer, t.embree, t.ratio) end
         local inc = p.incoherent
-        lines[#lines + 1] = fmt("| %s | %s | %s | %s | %s | %s | %.2f / %.2f (%.2fx) | %.0f |",
+        local m = p.memory or {}
+        lines[#lines + 1] = fmt("| %s | %s | %s | %s | %s | %s | %.2f / %.2f (%.2fx) | " ..
+          "%.1f (%.1f) / %.1f (%.1f) | %.0f |",
           case.label, cell(p.build), cell(p.primary), cell(p.shadow),
           cell(p["primary+shadow"]), cell(inc), inc.lancer_mrays, inc.embree_mrays,
-          inc.lancer_mrays / inc.embree_mrays, r.rss_mb or 0)
+          inc.lancer_mrays / inc.embree_mrays, m.lancer_mb or 0, m.lancer_build_mb or 0,
+          m.embree_mb or 0, m.embree_build_mb or 0, r.rss_mb or 0)
         local a = p.agree
         agree_lines[#agree_lines + 1] = fmt("| %s | %d | %d | %d | %d | %.1e | %d of %d | %d | %d | %d |",
           case.label, a.primary.both, a.primary.only_lancer, a.primary.only_embree,

@@ -30,6 +30,7 @@
 #include <string.h>
 #include <time.h>
 #include "lancer.h"
+#include "mem.h"
 
 #define W 1280
 #define H 720
@@ -201,6 +202,20 @@ static lc_scene *lancer_scene(const geometry *g)
 }
 
 /* ---- Embree's side --------------------------------------------------------------- */
+
+/* Embree's own allocations (its BVH and the geometry buffers it holds), as
+** its memory monitor reports them: now, and the most since a reset. */
+static _Atomic long long embree_bytes, embree_high;
+
+static bool embree_monitor(void *user, ssize_t bytes, bool post)
+{
+    (void)user, (void)post;
+    long long now = atomic_fetch_add(&embree_bytes, (long long)bytes) + bytes;
+    long long h = atomic_load(&embree_high);
+    while (now > h && !atomic_compare_exchange_weak(&embree_high, &h, now))
+        ;
+    return true;
+}
 
 static float round_up(double x)
 {
@@ -489,6 +504,7 @@ int main(int argc, char **argv)
     RTCDevice dev = rtcNewDevice(config);
     if (!dev)
         die("embree", "rtcNewDevice failed");
+    rtcSetDeviceMemoryMonitorFunction(dev, embree_monitor, NULL);
 
     size_t np = (size_t)W * H;
     lc_ray *prim = camera_rays(&g), *shadow = xmalloc(np * sizeof *shadow);
@@ -499,6 +515,7 @@ int main(int argc, char **argv)
     size_t ns = 0;
 
     double bl[MAX_RUNS], be[MAX_RUNS], t[6][MAX_RUNS];
+    size_t mem[4] = {0};             /* lancer's and Embree's bytes: held, at the build's peak */
     lc_scene *s = NULL;
     RTCScene esc = NULL;
     for (int r = 0; r < runs; r++) {
@@ -507,15 +524,19 @@ int main(int argc, char **argv)
             lc_scene_free(s);
         if (esc)
             rtcReleaseScene(esc);
+        mem_high_water_reset();
         s = lancer_scene(&g);
         lc_error err;
         double t0 = now();
         if (lc_scene_intersect(s, prim, 0, hits, &err))
             die("lancer", err.msg);
         bl[r] = now() - t0;
+        mem[0] = lc_memory_used(), mem[1] = mem_high_water();
+        atomic_store(&embree_high, atomic_load(&embree_bytes));
         t0 = now();
         esc = embree_scene(dev, &g);
         be[r] = now() - t0;
+        mem[2] = (size_t)atomic_load(&embree_bytes), mem[3] = (size_t)atomic_load(&embree_high);
 
         trace_job j = {.scene = s, .esc = esc, .hits = hits, .ehits = ehits};
         j.rays = prim, j.n = np;
@@ -554,6 +575,13 @@ int main(int argc, char **argv)
         ps_l[r] = t[0][r] + t[2][r], ps_e[r] = t[1][r] + t[3][r];
     line("primary+shadow", ps_l, ps_e, runs, np + ns);
     line("incoherent", t[4], t[5], runs, ns);
+    /* Each side's own bytes for the scene (the ray arrays, and the other
+    ** side, are not in them): held once built, and at the build's peak.
+    ** Embree's are held with a scene already released, so the first
+    ** figure is its scene's alone. */
+    printf("raycast memory lancer_mb=%.1f lancer_build_mb=%.1f embree_mb=%.1f "
+           "embree_build_mb=%.1f\n", mem[0] / 1048576.0, mem[1] / 1048576.0,
+           mem[2] / 1048576.0, mem[3] / 1048576.0);
     lc_scene_free(s);
     rtcReleaseScene(esc);
     rtcReleaseDevice(dev);
