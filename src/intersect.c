@@ -78,7 +78,7 @@ static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t,
     int ok;
     switch (PRIM_KIND(id)) {
     case PRIM_SPHERE:
-        ok = sphere_hit(SPHERES(s) + i, q->r, 0, tmax, h);
+        ok = sphere_finish(SPHERES(s) + i, q->r, t, h);
         h->material = s->shapes[LC_SPHERE].material[i];
         break;
     case PRIM_BOX:
@@ -86,7 +86,7 @@ static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t,
         h->material = s->shapes[LC_BOX].material[i];
         break;
     case PRIM_PLANE:
-        ok = plane_hit_inv(PLANES(s) + i, q->r, q->b.inv, 0, tmax, h);
+        ok = plane_finish(PLANES(s) + i, q->r, t, h);
         h->material = s->shapes[LC_PLANE].material[i];
         break;
     case PRIM_DISC: case PRIM_CYLINDER: case PRIM_CONE: case PRIM_TORUS:

@@ -88,8 +88,11 @@ int plane_hit_inv(const plane_geom *g, const ray *r, const double *inv, double t
                   double tmax, hit *h)
 {
     double t = plane_t(g, r, inv, tmin, tmax);
-    if (!(t > 0))
-        return 0;
+    return t > 0 && plane_finish(g, r, t, h);
+}
+
+int plane_finish(const plane_geom *g, const ray *r, double t, hit *h)
+{
     lc_vec3 raw = v3_madd(r->o, r->d, t);
     if (!isfinite(raw.x + raw.y + raw.z))   /* NaN in a component an axis plane skips */
         return 0;

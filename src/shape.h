@@ -92,6 +92,9 @@ void      sphere_bounds(const sphere_geom *g, float lo[3], float hi[3]);
 /* sphere_t: sphere.h. */
 int       sphere_hit(const sphere_geom *g, const ray *r, double tmin, double tmax,
                      hit *h);
+/* The rest of a hit at distance t, which sphere_t gave for this ray: the
+** nearest hit's, found again without the quadratic. */
+int       sphere_finish(const sphere_geom *g, const ray *r, double t, hit *h);
 /* Texture coordinates of a point p on the shape (each kind's convention:
 ** docs/manual.md, "Texture coordinates"). */
 void      sphere_uv(const sphere_geom *g, lc_vec3 p, double uv[2]);
@@ -187,6 +190,8 @@ int       plane_hit(const plane_geom *g, const ray *r, double tmin, double tmax,
                     hit *h);
 int       plane_hit_inv(const plane_geom *g, const ray *r, const double *inv,
                         double tmin, double tmax, hit *h);
+/* The rest of a hit at distance t, which plane_t gave for this ray. */
+int       plane_finish(const plane_geom *g, const ray *r, double t, hit *h);
 void      plane_uv(const plane_geom *g, lc_vec3 p, double uv[2]);
 /* Distance along r to the plane through p with unit normal n (axis >= 0:
 ** n is +-1 on that axis), or 0 for no hit in (tmin, tmax). inv: the ray's

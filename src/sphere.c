@@ -81,8 +81,11 @@ void sphere_bounds(const sphere_geom *g, float lo[3], float hi[3])
 int sphere_hit(const sphere_geom *s, const ray *r, double tmin, double tmax, hit *h)
 {
     double t = sphere_t(s, r, tmin, tmax);
-    if (!(t > 0))
-        return 0;
+    return t > 0 && sphere_finish(s, r, t, h);
+}
+
+int sphere_finish(const sphere_geom *s, const ray *r, double t, hit *h)
+{
     lc_vec3 f = v3_sub(r->o, s->c);
     /* Put the point back onto the sphere: what remains is bounded by
     ** gamma(5)|p_local| (pbrt-v4); adding the centre rounds once more. */
