@@ -81,13 +81,7 @@ lc_vec3 plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
 
 int plane_hit(const plane_geom *g, const ray *r, double tmin, double tmax, hit *h)
 {
-    return plane_hit_inv(g, r, NULL, tmin, tmax, h);
-}
-
-int plane_hit_inv(const plane_geom *g, const ray *r, const double *inv, double tmin,
-                  double tmax, hit *h)
-{
-    double t = plane_t(g, r, inv, tmin, tmax);
+    double t = plane_t(g, r, NULL, tmin, tmax);
     return t > 0 && plane_finish(g, r, t, h);
 }
 

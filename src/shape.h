@@ -188,8 +188,6 @@ lc_status plane_transform(const lc_shape *s, const lc_transform *t, lc_shape *ou
 void      plane_scale(lc_shape *s, double k, lc_vec3 offset);
 int       plane_hit(const plane_geom *g, const ray *r, double tmin, double tmax,
                     hit *h);
-int       plane_hit_inv(const plane_geom *g, const ray *r, const double *inv,
-                        double tmin, double tmax, hit *h);
 /* The rest of a hit at distance t, which plane_t gave for this ray. */
 int       plane_finish(const plane_geom *g, const ray *r, double t, hit *h);
 void      plane_uv(const plane_geom *g, lc_vec3 p, double uv[2]);
