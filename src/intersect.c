@@ -74,7 +74,6 @@ ALWAYS_INLINE double prim_t(const lc_scene *s, uint32_t id, uint32_t at, const q
 static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t, hit *h)
 {
     uint32_t i = PRIM_INDEX(id);
-    double tmax = next_up(t);               /* the same test finds the same t */
     int ok;
     switch (PRIM_KIND(id)) {
     case PRIM_SPHERE:
@@ -82,7 +81,7 @@ static int prim_finish(const lc_scene *s, uint32_t id, const query *q, double t,
         h->material = s->shapes[LC_SPHERE].material[i];
         break;
     case PRIM_BOX:
-        ok = box_hit_inv(BOXES(s) + i, q->r, q->b.inv, 0, tmax, h);
+        ok = box_hit_inv(BOXES(s) + i, q->r, q->b.inv, 0, next_up(t), h);  /* same t again */
         h->material = s->shapes[LC_BOX].material[i];
         break;
     case PRIM_PLANE:
