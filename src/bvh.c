@@ -212,7 +212,7 @@ static void measure(const builder *bd, size_t begin, size_t end, box3 *bounds, b
 /* Builds the subtree for items[begin, end) into node ni. Binned SAH: of the
 ** BINS-1 planes across the widest centroid extent, the one minimising
 ** area-weighted counts, unless a leaf is cheaper. Two passes over the items
-** per level: binning, then partitioning (which measures both children). */
+** per level: binning (which measures the bins), then partitioning. */
 static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bounds, box3 cb,
                   int depth)
 {
@@ -247,14 +247,29 @@ static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bound
         ** counts, so unit costs give the planes counts gave). */
         size_t count[BINS] = {0};
         double weight[BINS] = {0};
-        box3 bin[BINS];
-        for (int i = 0; i < BINS; i++)
+        /* Each bin's bounds and centroid bounds: a side's are its bins',
+        ** merged (min and max are exact in any order), so partitioning
+        ** need not measure the sides again. */
+        box3 bin[BINS], cbin[BINS];
+        for (int i = 0; i < BINS; i++) {
             box_empty(&bin[i]);
-        for (size_t i = begin; i < end; i++) {
-            int bi = bin_of(&items[i], axis, cb.lo[axis], scale);
-            count[bi]++;
-            weight[bi] += item_cost(bd, &items[i]);
-            box_grow_item(&bin[bi], &items[i]);
+            box_empty(&cbin[i]);
+        }
+        if (bd->cost) {
+            for (size_t i = begin; i < end; i++) {
+                int bi = bin_of(&items[i], axis, cb.lo[axis], scale);
+                count[bi]++;
+                weight[bi] += item_cost(bd, &items[i]);
+                grow_side(&bin[bi], &cbin[bi], &items[i]);
+            }
+        } else {           /* all of cost 1: the weights are the counts */
+            for (size_t i = begin; i < end; i++) {
+                int bi = bin_of(&items[i], axis, cb.lo[axis], scale);
+                count[bi]++;
+                grow_side(&bin[bi], &cbin[bi], &items[i]);
+            }
+            for (int i = 0; i < BINS; i++)
+                weight[i] = (double)count[i];
         }
         float rarea[BINS];
         double rweight[BINS], w = 0;
@@ -294,6 +309,10 @@ static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bound
             box_empty(&rb);
             box_empty(&lcb);
             box_empty(&rcb);
+            for (int k = 0; k < BINS; k++) {
+                box_merge(k <= split ? &lb : &rb, &bin[k]);
+                box_merge(k <= split ? &lcb : &rcb, &cbin[k]);
+            }
             /* Hoare's scheme: from both ends, swapping only pairs that are
             ** both misplaced. Swapping each right item with the last one,
             ** then reading the slot just written, stalled on store
@@ -302,16 +321,16 @@ static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bound
             size_t i = begin, j = end;
             for (;;) {
                 while (i < j && bin_of(&items[i], axis, cb.lo[axis], scale) <= split)
-                    grow_side(&lb, &lcb, &items[i++]);
+                    i++;
                 while (i < j && bin_of(&items[j - 1], axis, cb.lo[axis], scale) > split)
-                    grow_side(&rb, &rcb, &items[--j]);
+                    j--;
                 if (i == j)
                     break;
                 item t = items[i];             /* items[i] goes right, items[j - 1] left */
                 items[i] = items[j - 1];
                 items[j - 1] = t;
-                grow_side(&lb, &lcb, &items[i++]);
-                grow_side(&rb, &rcb, &items[--j]);
+                i++;
+                j--;
             }
             mid = i;
             measured = 1;
@@ -360,6 +379,7 @@ typedef struct {
 static void *build_job(void *arg)
 {
     job *j = arg;
+    measure(&j->bd, j->begin, j->end, &j->bounds, &j->cb);    /* while the other half is */
     j->bd.b->nnodes = 1;
     build(&j->bd, 0, j->begin, j->end, j->bounds, j->cb, 1);
     return NULL;
@@ -370,16 +390,61 @@ static void *build_job(void *arg)
 /* Bounds beyond float are clamped to its largest values, so centroids stay
 ** finite (an infinite bound once made a NaN centroid, and the split loops
 ** never ended). The coordinate range keeps real shapes well inside. */
-static void clamp_bounds(item *items, size_t n)
+static float clamp_lo(float lo)
 {
-    for (size_t i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++) {
-            float *lo = &items[i].lo[k], *hi = &items[i].hi[k];
-            if (!(*lo >= -FLT_MAX)) *lo = -FLT_MAX;
-            if (!(*hi <= FLT_MAX)) *hi = FLT_MAX;
-            if (*lo > FLT_MAX) *lo = FLT_MAX;
-            if (*hi < -FLT_MAX) *hi = -FLT_MAX;
-        }
+    lo = lo >= -FLT_MAX ? lo : -FLT_MAX;      /* NaN too */
+    return lo > FLT_MAX ? FLT_MAX : lo;
+}
+
+static float clamp_hi(float hi)
+{
+    hi = hi <= FLT_MAX ? hi : FLT_MAX;
+    return hi < -FLT_MAX ? -FLT_MAX : hi;
+}
+
+/* Whether an item's six bounds are finite: those clamping keeps. */
+static inline int item_finite(const item *it)
+{
+#if defined(__SSE2__)
+    const __m128 abs = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), top = _mm_set1_ps(FLT_MAX);
+    __m128 a = _mm_and_ps(item_lo(it), abs), b = _mm_and_ps(item_hi(it), abs);
+    return _mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(a, top), _mm_cmple_ps(b, top))) == 15;
+#else
+    for (int k = 0; k < 3; k++)
+        if (!(fabsf(it->lo[k]) <= FLT_MAX && fabsf(it->hi[k]) <= FLT_MAX))
+            return 0;
+    return 1;
+#endif
+}
+
+/* One pass over all the items: clamps their bounds, measures them (as
+** measure() does) and returns the kinds among them (bit id >> 28). */
+static uint32_t prepare(item *items, size_t n, box3 *bounds, box3 *cb)
+{
+    uint32_t kinds = 0;
+    box_empty(bounds);
+    box_empty(cb);
+    for (size_t i = 0; i < n; i++) {
+        item *it = &items[i];
+        kinds |= 1u << (it->id >> 28);
+        if (!item_finite(it))          /* rare: what clamping changes */
+            for (int k = 0; k < 3; k++) {
+                it->lo[k] = clamp_lo(it->lo[k]);
+                it->hi[k] = clamp_hi(it->hi[k]);
+            }
+        grow_side(bounds, cb, it);
+    }
+    return kinds;
+}
+
+/* cost, or NULL when every kind among the items costs 1 (the build then
+** bins without weighing: the same planes, B3 4M's bins a tenth faster). */
+static const float *cost_in_use(const float *cost, uint32_t kinds)
+{
+    for (int k = 0; cost && k < 16; k++)
+        if ((kinds >> k & 1) && cost[k] != 1)
+            return cost;
+    return NULL;
 }
 
 lc_status bvh_build(bvh *out, bvh_item *items, size_t n, sig_atomic_t interrupts_seen,
@@ -401,16 +466,15 @@ lc_status bvh_build_costed(bvh *out, bvh_item *items, size_t n, const float *cos
         return error_fail(err, LC_EARG, NULL, "too many primitives: %zu", n);
     }
     tree2 tree = {NULL, 0}, *b = &tree;
+    box3 all, cb;
+    cost = cost_in_use(cost, prepare(items, n, &all, &cb));
     builder bd = {b, n / 3 + 64, items, 0, 0, interrupts_seen, cost};
-    clamp_bounds(items, n);
     b->nodes = mem_alloc(bd.cap * sizeof *b->nodes);
     if (!b->nodes) {
         mem_free(items);
         return error_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
                        "primitives", n);
     }
-    box3 all, cb;
-    measure(&bd, 0, n, &all, &cb);
     b->nnodes = 1;
     if (n < PARALLEL_MIN) {
         build(&bd, 0, 0, n, all, cb, 0);
@@ -459,8 +523,6 @@ lc_status bvh_build_costed(bvh *out, bvh_item *items, size_t n, const float *cos
         right.bd.cost = cost;
         right.begin = mid;
         right.end = n;
-        measure(&bd, 0, mid, &lb, &lcb);
-        measure(&bd, mid, n, &right.bounds, &right.cb);
         if (stopped(&bd))
             right.bd.failed = right.bd.cancelled = 1;   /* neither half is built */
         rb.nodes = right.bd.failed ? NULL : mem_alloc(right.bd.cap * sizeof *rb.nodes);
@@ -468,6 +530,7 @@ lc_status bvh_build_costed(bvh *out, bvh_item *items, size_t n, const float *cos
         int threaded = rb.nodes && pthread_create(&th, NULL, build_job, &right) == 0;
         if (rb.nodes && !threaded)
             build_job(&right);
+        measure(&bd, 0, mid, &lb, &lcb);
         uint32_t left = new_node(&bd);
         if (!bd.failed)
             build(&bd, left, 0, mid, lb, lcb, 1);

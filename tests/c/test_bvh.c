@@ -1,4 +1,5 @@
 /* test_bvh.c: the BVH finds exactly what a brute-force scan finds, and meshes are watertight. */
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -173,6 +174,81 @@ static void costed_build_parts_costly_leaves(void **state)
     free(many);
 }
 
+/* Checks the subtree of wide node ni against the items (indexed by id):
+** each node is reached once, each child box holds what lies below it, and
+** each leaf's refs are marked in seen[]. Returns the nodes reached. */
+static size_t check_wide(const bvh *b, uint32_t ni, const bvh_item *items, char *reached,
+                         char *seen, const float lo[3], const float hi[3])
+{
+    assert_true(ni < b->nnodes);
+    assert_int_equal(reached[ni], 0);
+    reached[ni] = 1;
+    const bvh_node *nd = &b->nodes[ni];
+    assert_true(nd->n >= 1 && nd->n <= BVH_WIDTH);
+    size_t count = 1;
+    for (uint32_t c = 0; c < BVH_WIDTH; c++) {
+        float clo[3], chi[3];
+        for (int k = 0; k < 3; k++) {
+            clo[k] = nd->lo[k][c];
+            chi[k] = nd->hi[k][c];
+            if (c >= nd->n) {                 /* empty slots: no box */
+                assert_true(clo[k] > chi[k]);
+                continue;
+            }
+            assert_true(clo[k] >= lo[k] && chi[k] <= hi[k]);   /* inside its parent's */
+        }
+        if (c >= nd->n)
+            continue;
+        if (nd->count[c] == 0) {
+            count += check_wide(b, nd->child[c], items, reached, seen, clo, chi);
+            continue;
+        }
+        for (uint32_t r = nd->child[c]; r < nd->child[c] + nd->count[c]; r++) {
+            assert_true(r < b->nrefs);
+            const bvh_item *it = &items[b->refs[r]];
+            assert_int_equal(seen[b->refs[r]], 0);
+            seen[b->refs[r]] = 1;
+            for (int k = 0; k < 3; k++)
+                assert_true(it->lo[k] >= clo[k] && it->hi[k] <= chi[k]);
+        }
+    }
+    return count;
+}
+
+/* A build large enough for the paths that take two threads (the top split,
+** the collapse of the top's children into wide nodes): every node
+** reached once from the root, every item in exactly one leaf, every box
+** holding what lies below it. */
+static void large_build_is_whole(void **state)
+{
+    (void)state;
+    size_t n = 300000;
+    bvh_item *items = malloc(n * sizeof *items);
+    assert_non_null(items);
+    for (size_t i = 0; i < n; i++) {
+        float c[3] = {(float)(1000 * rnd()), (float)(10 * rnd()), (float)(1000 * rnd())};
+        float r = (float)(0.01 + 0.5 * rnd());
+        items[i] = (bvh_item){{c[0] - r, c[1] - r, c[2] - r}, {c[0] + r, c[1] + r, c[2] + r},
+                              (uint32_t)i};
+    }
+    lc_error err;
+    bvh b;
+    assert_int_equal(bvh_build(&b, owned_items(items, n), n, 0, &err), LC_OK);
+    assert_int_equal(b.nrefs, n);
+    assert_true(b.nnodes > 10000);
+    char *reached = calloc(b.nnodes, 1), *seen = calloc(n, 1);
+    assert_non_null(reached);
+    assert_non_null(seen);
+    const float all_lo[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX}, all_hi[3] = {FLT_MAX, FLT_MAX, FLT_MAX};
+    assert_int_equal(check_wide(&b, 0, items, reached, seen, all_lo, all_hi), b.nnodes);
+    for (size_t i = 0; i < n; i++)
+        assert_int_equal(seen[i], 1);
+    free(reached);
+    free(seen);
+    bvh_free(&b);
+    free(items);
+}
+
 /* A closed UV sphere; rays aimed exactly at its vertices and at points of its
 ** edges from outside must all hit (Woop: shared edges are computed alike). */
 static void mesh_is_watertight(void **state)
@@ -308,6 +384,7 @@ int main(void)
         cmocka_unit_test(bvh_matches_brute_force),
         cmocka_unit_test(bounds_are_never_subnormal),
         cmocka_unit_test(costed_build_parts_costly_leaves),
+        cmocka_unit_test(large_build_is_whole),
         cmocka_unit_test(mesh_is_watertight),
         cmocka_unit_test(degenerate_triangles_are_skipped),
         cmocka_unit_test(mesh_rejects_bad_input),
