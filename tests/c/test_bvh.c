@@ -306,6 +306,71 @@ static void mesh_is_watertight(void **state)
     lc_mesh_free(mesh);
 }
 
+/* A large scene's faces are listed on two threads, the halves split
+** across two meshes: the list is the one-thread list (every face not
+** degenerate, in mesh and face order) whichever half skips faces, and a
+** ray finds each face. */
+static void large_face_lists_keep_their_order(void **state)
+{
+    (void)state;
+    lc_error err;
+    /* Two meshes, 320 000 faces: the halves part inside the second. */
+    const size_t nfs[2] = {150000, 170000};
+    lc_scene *s = lc_scene_new(&err);
+    lc_material m = lc_material_default();
+    int mi = lc_scene_add_material(s, &m, &err);
+    lc_mesh *mesh[2];
+    for (int k = 0; k < 2; k++) {
+        size_t nf = nfs[k];
+        /* Face f: a unit triangle in the plane z = f, or a sliver with
+        ** three equal corners when f % 1000 == (k ? 999 : 7). */
+        mesh[k] = lc_mesh_new(&err);
+        double *v = malloc(9 * nf * sizeof *v);
+        uint32_t *f = malloc(3 * nf * sizeof *f);
+        assert_non_null(v);
+        assert_non_null(f);
+        for (size_t i = 0; i < nf; i++) {
+            int flat = i % 1000 == (k ? 999u : 7u);
+            double z = (double)i + (k ? 0.5 : 0), x = 3.0 * k;
+            double c[9] = {x, 0, z, x + (flat ? 0 : 1), 0, z, x, flat ? 0 : 1, z};
+            memcpy(v + 9 * i, c, sizeof c);
+            for (int q = 0; q < 3; q++)
+                f[3 * i + q] = (uint32_t)(3 * i + (size_t)q);
+        }
+        assert_int_equal(lc_mesh_add_vertices(mesh[k], v, 3 * nf, &err), LC_OK);
+        assert_int_equal(lc_mesh_add_faces(mesh[k], f, nf, &err), LC_OK);
+        assert_true(lc_scene_add_mesh(s, mesh[k], mi, &err) >= 0);
+        free(v);
+        free(f);
+    }
+    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
+    size_t skipped = nfs[0] / 1000 + nfs[1] / 1000;
+    assert_int_equal(s->c.degenerate, skipped);
+    assert_int_equal(s->c.ntris, nfs[0] + nfs[1] - skipped);
+    size_t at = 0;
+    for (uint32_t k = 0; k < 2; k++)
+        for (uint32_t i = 0; i < nfs[k]; i++) {
+            if (i % 1000 == (k ? 999u : 7u))
+                continue;
+            assert_int_equal(s->c.tris[at].mesh, k);
+            assert_int_equal(s->c.tris[at].face, i);
+            at++;
+        }
+    for (uint32_t k = 0; k < 2; k++)
+        for (uint32_t i = 1; i < nfs[k]; i += 9973) {    /* down onto face i of mesh k */
+            ray r = {v3(3.0 * k + 0.25, 0.25, (double)i + (k ? 0.5 : 0) + 0.25),
+                     v3(0, 0, -1)};
+            hit h;
+            assert_true(intersect_closest(s, &r, HUGE_VAL, &h, NULL));
+            const tri_ref *tr = &s->c.tris[PRIM_INDEX(h.shape)];
+            assert_int_equal(tr->mesh, k);
+            assert_int_equal(tr->face, i);
+        }
+    lc_scene_free(s);
+    lc_mesh_free(mesh[0]);
+    lc_mesh_free(mesh[1]);
+}
+
 /* A degenerate-only mesh compiles to nothing and never yields a hit. */
 static void degenerate_triangles_are_skipped(void **state)
 {
@@ -387,6 +452,7 @@ int main(void)
         cmocka_unit_test(large_build_is_whole),
         cmocka_unit_test(mesh_is_watertight),
         cmocka_unit_test(degenerate_triangles_are_skipped),
+        cmocka_unit_test(large_face_lists_keep_their_order),
         cmocka_unit_test(mesh_rejects_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
