@@ -371,6 +371,42 @@ static void large_face_lists_keep_their_order(void **state)
     lc_mesh_free(mesh[1]);
 }
 
+/* A large scene's shapes are bounded on two threads, the halves parting
+** inside the second kind: a ray down onto any sphere or box finds it, by
+** its own kind and index. */
+static void large_shape_lists_are_bounded_whole(void **state)
+{
+    (void)state;
+    lc_error err;
+    lc_scene *s = lc_scene_new(&err);
+    lc_material m = lc_material_default();
+    int mi = lc_scene_add_material(s, &m, &err);
+    const size_t nsph = 100000, nbox = 150000;      /* 250 000: the halves meet in boxes */
+    for (size_t i = 0; i < nsph; i++) {
+        lc_shape sp = {.kind = LC_SPHERE, .p = {3.0 * (double)i, 0, 0}, .radius = 1};
+        assert_true(lc_scene_add_shape(s, &sp, mi, &err) >= 0);
+    }
+    for (size_t i = 0; i < nbox; i++) {
+        lc_shape b = {.kind = LC_BOX, .p = {3.0 * (double)i, 0, 10}, .u = {1, 0, 0},
+                      .v = {0, 1, 0}, .w = {0, 0, 1}};
+        assert_true(lc_scene_add_shape(s, &b, mi, &err) >= 0);
+    }
+    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
+    for (size_t i = 0; i < nbox; i += 997) {
+        for (int kind = 0; kind < 2; kind++) {
+            if (kind == 0 && i >= nsph)
+                continue;
+            double x = 3.0 * (double)i + (kind ? 0.5 : 0), z = kind ? 10.5 : 0;
+            ray r = {v3(x, 5, z), v3(0, -1, 0)};
+            hit h;
+            assert_true(intersect_closest(s, &r, HUGE_VAL, &h, NULL));
+            assert_int_equal(PRIM_KIND(h.shape), kind ? PRIM_BOX : PRIM_SPHERE);
+            assert_int_equal(PRIM_INDEX(h.shape), i);
+        }
+    }
+    lc_scene_free(s);
+}
+
 /* A degenerate-only mesh compiles to nothing and never yields a hit. */
 static void degenerate_triangles_are_skipped(void **state)
 {
@@ -453,6 +489,7 @@ int main(void)
         cmocka_unit_test(mesh_is_watertight),
         cmocka_unit_test(degenerate_triangles_are_skipped),
         cmocka_unit_test(large_face_lists_keep_their_order),
+        cmocka_unit_test(large_shape_lists_are_bounded_whole),
         cmocka_unit_test(mesh_rejects_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
