@@ -332,10 +332,30 @@ typedef struct {
 ** leaf(ctx, at, tmax) tests the primitive refs[at] (the position lets a
 ** caller keep data in leaf order beside refs) and returns tmax, shrunk when
 ** it found a nearer hit. Returns the number of box tests. */
-ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
-                                   double (*leaf)(void *ctx, uint32_t at, double tmax),
-                                   unsigned (*test)(const bvh_node *, const bvh_ray *, double,
-                                                    double *))
+
+/* A leaf of the closest-hit search: run, or leaf on each primitive. */
+ALWAYS_INLINE double bvh_leaf_run(void *ctx, uint32_t at, uint32_t count, double tmax,
+                                  double (*leaf)(void *ctx, uint32_t at, double tmax),
+                                  double (*run)(void *ctx, uint32_t at, uint32_t count,
+                                                double tmax))
+{
+    if (run)
+        return run(ctx, at, count, tmax);
+    for (uint32_t k = 0; k < count; k++)
+        tmax = leaf(ctx, at + k, tmax);
+    return tmax;
+}
+
+/* bvh_closest with run(ctx, at, count, tmax) testing a whole leaf,
+** refs[at, at + count), and returning tmax as leaf() would have after the
+** last (NULL: leaf() on each, in order). */
+ALWAYS_INLINE uint64_t bvh_closest_runs(const bvh *b, const bvh_ray *q, double tmax,
+                                        void *ctx,
+                                        double (*leaf)(void *ctx, uint32_t at, double tmax),
+                                        double (*run)(void *ctx, uint32_t at, uint32_t count,
+                                                      double tmax),
+                                        unsigned (*test)(const bvh_node *, const bvh_ray *,
+                                                         double, double *))
 {
     if (!b->nnodes)
         return 0;
@@ -386,8 +406,7 @@ ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, 
                 ni = child;
                 continue;
             }
-            for (uint32_t k = 0; k < count; k++)
-                tmax = leaf(ctx, child + k, tmax);
+            tmax = bvh_leaf_run(ctx, child, count, tmax, leaf, run);
         }
         for (;;) {
             if (sp == 0)
@@ -399,19 +418,41 @@ ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, 
                 ni = p->child;
                 break;
             }
-            for (uint32_t k = 0; k < p->count; k++)
-                tmax = leaf(ctx, p->child + k, tmax);
+            tmax = bvh_leaf_run(ctx, p->child, p->count, tmax, leaf, run);
         }
     }
+}
+
+
+ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
+                                   double (*leaf)(void *ctx, uint32_t at, double tmax),
+                                   unsigned (*test)(const bvh_node *, const bvh_ray *, double,
+                                                    double *))
+{
+    return bvh_closest_runs(b, q, tmax, ctx, leaf, NULL, test);
 }
 
 /* Any hit: leaf(ctx, at, tmax) returns nonzero when refs[at] blocks
 ** the ray, which ends the search. Returns 1 if one did; *nodes counts the
 ** box tests. Children are taken in slot order: any blocker will do. */
-ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
-                          int (*leaf)(void *ctx, uint32_t at, double tmax), uint64_t *nodes,
-                          unsigned (*test)(const bvh_node *, const bvh_ray *, double,
-                                           double *))
+/* Whether any of refs[at, at + count) blocks the ray, by leaf(), in order. */
+ALWAYS_INLINE int bvh_any_each(void *ctx, uint32_t at, uint32_t count, double tmax,
+                               int (*leaf)(void *ctx, uint32_t at, double tmax))
+{
+    for (uint32_t k = 0; k < count; k++)
+        if (leaf(ctx, at + k, tmax))
+            return 1;
+    return 0;
+}
+
+/* bvh_any with run(ctx, at, count, tmax) testing a whole leaf (NULL:
+** leaf() on each). */
+ALWAYS_INLINE int bvh_any_runs(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
+                               int (*leaf)(void *ctx, uint32_t at, double tmax),
+                               int (*run)(void *ctx, uint32_t at, uint32_t count, double tmax),
+                               uint64_t *nodes,
+                               unsigned (*test)(const bvh_node *, const bvh_ray *, double,
+                                                double *))
 {
     if (!b->nnodes)
         return 0;
@@ -428,9 +469,9 @@ ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx
             unsigned c = (unsigned)__builtin_ctz(m);
             m &= m - 1;
             if (nd->count[c]) {
-                for (uint32_t k = 0; k < nd->count[c]; k++)
-                    if (leaf(ctx, nd->child[c] + k, tmax))
-                        return 1;
+                if (run ? run(ctx, nd->child[c], nd->count[c], tmax)
+                        : bvh_any_each(ctx, nd->child[c], nd->count[c], tmax, leaf))
+                    return 1;
             } else if (!descend) {
                 descend = 1;
                 ni = nd->child[c];
@@ -445,6 +486,14 @@ ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx
             return 0;
         ni = stack[--sp].child;
     }
+}
+
+ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
+                          int (*leaf)(void *ctx, uint32_t at, double tmax), uint64_t *nodes,
+                          unsigned (*test)(const bvh_node *, const bvh_ray *, double,
+                                           double *))
+{
+    return bvh_any_runs(b, q, tmax, ctx, leaf, NULL, nodes, test);
 }
 
 /* A hierarchy of one leaf (a scene of a few bounded shapes weighing at
@@ -497,24 +546,30 @@ ALWAYS_INLINE int bvh_any_lone(const bvh *b, const bvh_ray *q, double tmax, void
 /* Defines name_scalar, name_avx and name_avx512, the same function of
 ** (args) built around each box test, and name(), which calls the one
 ** bvh_simd says. The body (the last arguments) uses BVH_TEST for the box
-** test. */
+** test, and BVH_LEVEL (BVH_SIMD_OFF, _AVX or _AVX512) to choose its own. */
 #define BVH_DISPATCH(type, name, params, args, ...)                           \
     static type name##_scalar params                                          \
     {                                                                         \
         unsigned (*const BVH_TEST)(const bvh_node *, const bvh_ray *, double, \
                                    double *) = bvh_test_scalar;               \
+        const int BVH_LEVEL = BVH_SIMD_OFF;                                   \
+        (void)BVH_LEVEL;                                                      \
         __VA_ARGS__                                                           \
     }                                                                         \
     BVH_AVX_TARGET static type name##_avx params                              \
     {                                                                         \
         unsigned (*const BVH_TEST)(const bvh_node *, const bvh_ray *, double, \
                                    double *) = bvh_test_avx;                  \
+        const int BVH_LEVEL = BVH_SIMD_AVX;                                   \
+        (void)BVH_LEVEL;                                                      \
         __VA_ARGS__                                                           \
     }                                                                         \
     BVH_AVX512_TARGET static type name##_avx512 params                        \
     {                                                                         \
         unsigned (*const BVH_TEST)(const bvh_node *, const bvh_ray *, double, \
                                    double *) = bvh_test_avx512;               \
+        const int BVH_LEVEL = BVH_SIMD_AVX512;                                \
+        (void)BVH_LEVEL;                                                      \
         __VA_ARGS__                                                           \
     }                                                                         \
     static inline type name params                                            \

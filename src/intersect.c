@@ -1,6 +1,7 @@
 /* intersect.c: nearest-hit and any-hit queries: infinite planes one by one,
 ** everything else through the BVH. */
 #include "scene.h"
+#include "triangle4.h"
 
 /* Each kind's prepared shapes, as the switches below read them. */
 #define SPHERES(s) ((const sphere_geom *)(s)->shapes[LC_SPHERE].geom)
@@ -212,9 +213,95 @@ ALWAYS_INLINE double closest_leaf(void *ctx, uint32_t at, double tmax)
     return tmax;
 }
 
+/* Whether refs[0, count) are all flat triangles (tleaf beside them). */
+static inline int all_triangles(const uint32_t *refs, uint32_t count)
+{
+    for (uint32_t k = 0; k < count; k++)
+        if (PRIM_KIND(refs[k]) != PRIM_TRIANGLE)
+            return 0;
+    return 1;
+}
+
+/* refs[at + g, at + g + n)'s faces, four at most, for triangle4. */
+static inline void leaf_faces(const lc_scene *s, uint32_t at, int n, triangle4_faces *f)
+{
+    for (int l = 0; l < n; l++) {
+        const tri_leaf *tl = &s->c.tleaf[at + (uint32_t)l];
+        const double *v = s->meshes[tl->mesh].mesh->v;
+        for (int i = 0; i < 3; i++)
+            f->v[l][i] = v + 3 * (size_t)tl->v[i];
+    }
+}
+
+/* The faces of refs[at, at + n) (n <= 4), tested as one batch against
+** tmax: in AVX's lanes, or one by one, as `simd` says (the same bits). */
+static inline void leaf_batch(const query *q, const lc_scene *s, uint32_t at, int n,
+                              double tmax, int simd, double t[4], double bary[4][3])
+{
+    triangle4_faces f;
+    leaf_faces(s, at, n, &f);
+    if (simd)
+        triangle4_avx(&f, n, q->r, &q->sh, tmax, t, bary);
+    else
+        triangle4_scalar(&f, n, q->r, &q->sh, tmax, t, bary);
+}
+
+/* A leaf of two or more flat triangles is tested four at a time against
+** the tmax each group of four begins with, its nearest kept as
+** closest_leaf keeps it (the lower id on a tie); with or without SIMD the
+** same batches. Any other leaf: closest_leaf on each, in order. A batch
+** has no early outs per face to mispredict: lc-raycast b3 707, incoherent
+** rays 0.149 -> 0.129 s, shadow rays 0.104 -> 0.092 s. */
+ALWAYS_INLINE double closest_run(void *ctx, uint32_t at, uint32_t count, double tmax,
+                                 int simd)
+{
+    closest *c = ctx;
+    const uint32_t *refs = c->s->c.bvh.refs + at;
+    if (count < 2 || !all_triangles(refs, count)) {
+        for (uint32_t k = 0; k < count; k++)
+            tmax = closest_leaf(c, at + k, tmax);
+        return tmax;
+    }
+    for (uint32_t g = 0; g < count; g += 4) {
+        int n = count - g < 4 ? (int)(count - g) : 4;
+        double t[4], bary[4][3];
+        leaf_batch(c->q, c->s, at + g, n, tmax, simd, t, bary);
+        c->np += (uint64_t)n;
+        int better = 0;
+        for (int l = 0; l < n; l++) {
+            uint32_t id = refs[g + (uint32_t)l];
+            if (t[l] > 0 && (c->best == 0 || t[l] < c->best ||
+                             (t[l] == c->best && id < c->best_id))) {
+                c->best = t[l];
+                c->best_id = id;
+                c->h->bary[0] = bary[l][0];
+                c->h->bary[1] = bary[l][1];
+                c->h->bary[2] = bary[l][2];
+                better = 1;
+            }
+        }
+        if (better)
+            tmax = next_up(c->best);
+    }
+    return tmax;
+}
+
+ALWAYS_INLINE double closest_run_plain(void *ctx, uint32_t at, uint32_t count, double tmax)
+{
+    return closest_run(ctx, at, count, tmax, 0);
+}
+
+ALWAYS_INLINE double closest_run_simd(void *ctx, uint32_t at, uint32_t count, double tmax)
+{
+    return closest_run(ctx, at, count, tmax, 1);
+}
+
 BVH_DISPATCH(uint64_t, closest_walk,
              (const bvh *b, const bvh_ray *q, double tmax, closest *c), (b, q, tmax, c),
-             return bvh_closest(b, q, tmax, c, closest_leaf, BVH_TEST);)
+             return bvh_closest_runs(b, q, tmax, c, closest_leaf,
+                                     BVH_LEVEL == BVH_SIMD_OFF ? closest_run_plain
+                                                               : closest_run_simd,
+                                     BVH_TEST);)
 
 int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
                     bvh_counts *counts)
@@ -272,7 +359,7 @@ static int any_nested(any *a, uint32_t id, double tmax)
     return found;
 }
 
-static inline int any_leaf(void *ctx, uint32_t at, double tmax)
+ALWAYS_INLINE int any_leaf(void *ctx, uint32_t at, double tmax)
 {
     any *a = ctx;
     uint32_t id = a->s->c.bvh.refs[at];
@@ -284,12 +371,55 @@ static inline int any_leaf(void *ctx, uint32_t at, double tmax)
     return prim_t(a->s, id, at, a->q, tmax, a->tmp, NULL) > 0;   /* not nested */
 }
 
+/* A leaf of two or more flat triangles, none the one to skip, is tested
+** four at a time, as closest_run does; the tests counted are those up to
+** the first blocker in order, as any_leaf on each counts them. */
+ALWAYS_INLINE int any_run(void *ctx, uint32_t at, uint32_t count, double tmax, int simd)
+{
+    any *a = ctx;
+    const uint32_t *refs = a->s->c.bvh.refs + at;
+    int batch = count >= 2 && all_triangles(refs, count);
+    for (uint32_t k = 0; batch && k < count; k++)
+        batch = refs[k] != a->skip;
+    if (!batch) {
+        for (uint32_t k = 0; k < count; k++)
+            if (any_leaf(a, at + k, tmax))
+                return 1;
+        return 0;
+    }
+    for (uint32_t g = 0; g < count; g += 4) {
+        int n = count - g < 4 ? (int)(count - g) : 4;
+        double t[4], bary[4][3];
+        leaf_batch(a->q, a->s, at + g, n, tmax, simd, t, bary);
+        for (int l = 0; l < n; l++)
+            if (t[l] > 0) {
+                a->np += (uint64_t)l + 1;
+                return 1;
+            }
+        a->np += (uint64_t)n;
+    }
+    return 0;
+}
+
+ALWAYS_INLINE int any_run_plain(void *ctx, uint32_t at, uint32_t count, double tmax)
+{
+    return any_run(ctx, at, count, tmax, 0);
+}
+
+ALWAYS_INLINE int any_run_simd(void *ctx, uint32_t at, uint32_t count, double tmax)
+{
+    return any_run(ctx, at, count, tmax, 1);
+}
+
 BVH_DISPATCH(int, any_walk, (const bvh *b, const bvh_ray *q, double tmax, any *a),
-             (b, q, tmax, a), return bvh_any(b, q, tmax, a, any_leaf, &a->nn, BVH_TEST);)
+             (b, q, tmax, a),
+             return bvh_any_runs(b, q, tmax, a, any_leaf,
+                                 BVH_LEVEL == BVH_SIMD_OFF ? any_run_plain : any_run_simd,
+                                 &a->nn, BVH_TEST);)
 
 /* Any hit: the first primitive found in (0, tmax) ends the search. */
-static int occluded(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
-                    uint64_t *np, uint64_t *nn, bvh_counts *inner)
+ALWAYS_INLINE int occluded(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
+                           uint64_t *np, uint64_t *nn, bvh_counts *inner)
 {
     query q;
     query_init(&q, r, s->c.nflat > 0);

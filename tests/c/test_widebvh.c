@@ -13,6 +13,7 @@
 #include <cmocka.h>
 #include "mem.h"
 #include "scene.h"
+#include "triangle4.h"
 
 #define M_PI 3.14159265358979323846
 #define RANDOM_RAYS      100000
@@ -730,10 +731,101 @@ static void images_do_not_depend_on_simd_or_threads(void **state)
     lc_scene_free(s);
 }
 
+/* ---- the four-lane triangle test -------------------------------------------------- */
+
+/* Lanes of triangle4_avx against triangle_t, bit for bit: random faces
+** about the ray, fans of faces around a corner or an edge the ray passes
+** exactly through (edge functions rounding to 0: the extended-precision
+** path), corners on the ray's origin, faces far from the origin and tiny
+** ones, edge-on and degenerate faces, and tmax cutting through hits. */
+static void triangle4_lanes_are_triangle_t(void **state)
+{
+    (void)state;
+    int was = bvh_simd_set(BVH_SIMD_AVX);
+    int have = bvh_simd >= BVH_SIMD_AVX;
+    bvh_simd_set(was);
+    if (!have)
+        skip();
+    long hits = 0, zeros = 0, cases = 0;
+    for (int c = 0; c < 200000; c++) {
+        double scale = pow(10, range(-6, 6)), shift = rnd() < 0.3 ? pow(10, range(0, 8)) : 0;
+        lc_vec3 o = v3_add(rvec(-1, 1), v3(shift, -shift, shift));
+        ray r = {o, random_dir()};
+        triangle_shear sh;
+        triangle_shear_init(r.d, &sh);
+        lc_vec3 aim = v3_madd(o, r.d, scale * range(0.1, 10));   /* a point on the ray */
+        double corners[4][3][3];
+        triangle4_faces f;
+        int n = 1 + (int)(rnd() * 4);
+        int kind = c % 5;
+        for (int l = 0; l < n; l++)
+            for (int i = 0; i < 3; i++) {
+                lc_vec3 p = v3_add(aim, v3_mul(rvec(-1, 1), scale));
+                if (kind == 1 && i == 0)
+                    p = aim;                               /* a corner on the ray */
+                if (kind == 2 && i < 2)                    /* an edge across it */
+                    p = v3_add(aim, v3_mul(r.d, (i ? 1 : -1) * scale));
+                if (kind == 3 && i == 0 && l == 0)
+                    p = o;                                 /* a corner on the origin */
+                if (kind == 4 && i == 2)
+                    p = v3_add(v3(corners[l][0][0], corners[l][0][1], corners[l][0][2]),
+                               v3_mul(v3_sub(v3(corners[l][1][0], corners[l][1][1],
+                                                corners[l][1][2]),
+                                             v3(corners[l][0][0], corners[l][0][1],
+                                                corners[l][0][2])), range(-1, 2)));
+                corners[l][i][0] = p.x;
+                corners[l][i][1] = p.y;
+                corners[l][i][2] = p.z;
+                f.v[l][i] = corners[l][i];
+            }
+        double tmax = rnd() < 0.3 ? scale * range(0, 10) : HUGE_VAL;
+        double t4[4], b4[4][3], t1, b1[3];
+        triangle4_avx(&f, n, &r, &sh, tmax, t4, b4);
+        for (int l = 0; l < n; l++) {
+            t1 = triangle_t(f.v[l][0], f.v[l][1], f.v[l][2], &r, &sh, 0, tmax, b1);
+            cases++;
+            if (memcmp(&t1, &t4[l], sizeof t1) != 0)
+                fail_msg("case %d lane %d: triangle_t %a, lane %a", c, l, t1, t4[l]);
+            if (t1 > 0) {
+                hits++;
+                assert_memory_equal(b1, b4[l], sizeof b1);
+            } else
+                zeros++;
+        }
+    }
+    print_message("%ld lanes, %ld hits, %ld misses, all equal\n", cases, hits, zeros);
+    assert_true(hits > 50000 && zeros > 50000);
+
+    /* An edge whose function rounds to exactly 0 in double but is -2^-60 in
+    ** extended precision (a miss: the other two are positive), then one
+    ** where it is +2^-60 (a hit), in every lane. */
+    ray r = {v3(0, 0, -5), v3(0, 0, 1)};
+    triangle_shear sh;
+    triangle_shear_init(r.d, &sh);
+    double a[3] = {1, -1, 0};
+    double b[2][3] = {{1 + 0x1p-30, 1 + 0x1p-29, 0}, {1 + 0x1p-29, 1 + 0x1p-30, 0}};
+    double c[2][3] = {{-1, -(1 + 0x1p-30), 0}, {-(1 + 0x1p-30), -1, 0}};
+    for (int meet = 0; meet < 2; meet++) {
+        triangle4_faces f;
+        for (int l = 0; l < 4; l++) {
+            f.v[l][0] = a;
+            f.v[l][1] = b[meet];
+            f.v[l][2] = c[meet];
+        }
+        double t4[4], b4[4][3], b1[3];
+        double t1 = triangle_t(f.v[0][0], f.v[0][1], f.v[0][2], &r, &sh, 0, HUGE_VAL, b1);
+        assert_true(meet ? t1 == 5 : t1 == 0);
+        triangle4_avx(&f, 4, &r, &sh, HUGE_VAL, t4, b4);
+        for (int l = 0; l < 4; l++)
+            assert_memory_equal(&t1, &t4[l], sizeof t1);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(box_test_is_conservative),
+        cmocka_unit_test(triangle4_lanes_are_triangle_t),
         cmocka_unit_test(wide_bvh_matches_the_scan),
         cmocka_unit_test(lone_leaf_matches_the_scan),
         cmocka_unit_test(images_do_not_depend_on_simd_or_threads),
