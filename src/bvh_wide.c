@@ -4,6 +4,7 @@
 #include <string.h>
 #include "bvh.h"
 #include "mem.h"
+#include "pair.h"
 
 /* ---- which box test ------------------------------------------------------------- */
 
@@ -159,19 +160,6 @@ static void *collapse_kids(void *arg)
     return NULL;
 }
 
-/* Both jobs, the first (when it has work) on a thread of its own, or here
-** if none starts. */
-static void run_both(kids_job *a, kids_job *b)
-{
-    pthread_t th;
-    int threaded = a->from < a->to && pthread_create(&th, NULL, collapse_kids, a) == 0;
-    if (!threaded)
-        collapse_kids(a);
-    collapse_kids(b);
-    if (threaded)
-        pthread_join(th, NULL);
-}
-
 #define PARALLEL_COLLAPSE 100000   /* binary nodes; below, a thread costs more */
 
 lc_status bvh_collapse(bvh *b, const bvh2_node *nodes, size_t n)
@@ -191,7 +179,7 @@ lc_status bvh_collapse(bvh *b, const bvh2_node *nodes, size_t n)
     kids_job z = {nodes, NULL, kids, h, nk, 0, 0, {0}};
     int leaf = nodes[0].count > 0;          /* a root that is a leaf: one node */
     if (!leaf)
-        run_both(&a, &z);
+        pair_run(collapse_kids, &z, &a, a.from < a.to);
     size_t count = 1 + a.end + z.end;
     void *block = mem_alloc(count * sizeof(bvh_node) + 64);
     if (!block)
@@ -203,7 +191,7 @@ lc_status bvh_collapse(bvh *b, const bvh2_node *nodes, size_t n)
         a.w = z.w = w;
         z.first = 1 + a.end;
         a.first = 1;
-        run_both(&a, &z);
+        pair_run(collapse_kids, &z, &a, a.from < a.to);
         for (int c = 0; c < nk; c++)
             child[c] = c < h ? a.child[c] : z.child[c];
     }

@@ -1,7 +1,6 @@
 /* compile.c: what a render needs from the scene: the BVH over every bounded
 ** primitive (moved meshes as one primitive each), the triangle list, and the
 ** effects the frame calls for. */
-#include <pthread.h>
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
@@ -11,6 +10,7 @@
 #include "camera.h"
 #include "interrupt.h"
 #include "mem.h"
+#include "pair.h"
 #include "sky.h"
 #include "texture.h"
 
@@ -79,13 +79,7 @@ static lc_status list_triangles(lc_scene *s, sig_atomic_t seen, lc_error *err)
         return error_fail(err, LC_ENOMEM, NULL, "out of memory listing %zu triangles", total);
     size_t half = flat >= PARALLEL_FACES ? flat / 2 : flat;
     list_job jobs[2] = {{s, c->tris, 0, half, 0, 0}, {s, c->tris, half, flat, 0, 0}};
-    pthread_t th;
-    int threaded = half < flat && pthread_create(&th, NULL, list_faces, &jobs[1]) == 0;
-    list_faces(&jobs[0]);
-    if (threaded)
-        pthread_join(th, NULL);
-    else
-        list_faces(&jobs[1]);          /* empty unless the thread failed to start */
+    pair_run(list_faces, &jobs[0], &jobs[1], half < flat);
     if (jobs[0].n < half)
         memmove(c->tris + jobs[0].n, c->tris + half, jobs[1].n * sizeof *c->tris);
     c->ntris = jobs[0].n + jobs[1].n;
@@ -176,13 +170,7 @@ static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
         return error_fail(err, LC_ENOMEM, NULL, "out of memory bounding %zu primitives", n);
     size_t both = shapes + c->nflat, half = both >= PARALLEL_FACES ? both / 2 : both;
     bound_job jobs[2] = {{s, items, 0, half, seen, 0}, {s, items, half, both, seen, 0}};
-    pthread_t th;
-    int threaded = half < both && pthread_create(&th, NULL, bound_items, &jobs[1]) == 0;
-    bound_items(&jobs[0]);
-    if (threaded)
-        pthread_join(th, NULL);
-    else
-        bound_items(&jobs[1]);            /* empty unless the thread failed to start */
+    pair_run(bound_items, &jobs[0], &jobs[1], half < both);
     if (jobs[0].cancelled || jobs[1].cancelled) {
         mem_free(items);
         return error_fail(err, LC_ECANCEL, NULL, "render cancelled");
@@ -237,13 +225,7 @@ tri_leaf *compile_tri_leaves(const lc_scene *s, const bvh *b)
         return NULL;
     size_t half = b->nrefs >= PARALLEL_FACES ? b->nrefs / 2 : b->nrefs;
     leaves_job jobs[2] = {{s, b, tl, 0, half}, {s, b, tl, half, b->nrefs}};
-    pthread_t th;
-    int threaded = half < b->nrefs && pthread_create(&th, NULL, list_leaves, &jobs[1]) == 0;
-    list_leaves(&jobs[0]);
-    if (threaded)
-        pthread_join(th, NULL);
-    else
-        list_leaves(&jobs[1]);
+    pair_run(list_leaves, &jobs[0], &jobs[1], half < b->nrefs);
     return tl;
 }
 
