@@ -114,17 +114,20 @@ T.test("S8 unused materials and lights cost nothing: same rays, same image", fun
   T.eq(sb.effects.emitter, false, "emitter effect")
 end)
 
--- Scenes that use every effect, for S10.
-local function rich_scene()
+-- Scenes that use every effect, for S10; without mirrors and highlights
+-- (mirrors = false), the scenes the diffuse copy of the path loop draws.
+local function rich_scene(mirrors)
+  local kr, ks = mirrors and 0.2 or 0, mirrors and 0.6 or 0
   local s = lancer.scene{camera = lancer.camera{from = {0, 1.5, -5}, at = {0, 0.8, 0}},
                          ambient = 0.05, background = {0.1, 0.2, 0.3}}
   s:add(lancer.plane{point = {0, 0, 0}, normal = {0, 1, 0},
-                     material = lancer.material{color = 0.7, kr = 0.2}})
+                     material = lancer.material{color = 0.7, kr = kr}})
   s:add(lancer.sphere{center = {-1, 1, 0}, radius = 1,
-                      material = lancer.material{color = {0.9, 0.3, 0.2}, ks = 0.6,
+                      material = lancer.material{color = {0.9, 0.3, 0.2}, ks = ks,
                                                  alpha = 30, absorb = "diffuse"}})
   s:add(lancer.sphere{center = {1.2, 0.7, -0.5}, radius = 0.7,
-                      material = lancer.material{kd = 0, ka = 0, kr = 0.9}})
+                      material = lancer.material{kd = mirrors and 0 or 0.6, ka = 0,
+                                                 kr = mirrors and 0.9 or 0}})
   s:add(lancer.box{min = {0.2, 0, 1}, max = {1, 0.8, 1.8},
                    material = lancer.material{ka = 0, kd = 0.8}})
   s:add(lancer.sphere{center = {-2, 3, -1}, radius = 0.3,
@@ -135,7 +138,8 @@ local function rich_scene()
 end
 
 T.test("S10 the planned shading equals the generic path, bit for bit", function()
-  local scenes = {rich = rich_scene(), plain = plane_scene()}
+  local scenes = {rich = rich_scene(true), diffuse = rich_scene(false),
+                  plain = plane_scene()}
   scenes.plain:add(lancer.point_light{position = {0, 4, 0}, intensity = 10})
   for name, s in pairs(scenes) do
     for _, opts in ipairs{{samples = 4}, {samples = 1, cutoff = 0},
@@ -152,7 +156,7 @@ T.test("S10 the planned shading equals the generic path, bit for bit", function(
 end)
 
 T.test("intersection tests are counted, the same whatever the thread count", function()
-  local s = rich_scene()
+  local s = rich_scene(true)
   local _, a = s:render{width = W, height = H, threads = 1}
   local _, b = s:render{width = W, height = H, threads = 3}
   assert(a.prim_tests > 0 and a.node_tests > 0, "counted")
@@ -162,7 +166,7 @@ T.test("intersection tests are counted, the same whatever the thread count", fun
 end)
 
 T.test("explain: the ray tree of one pixel adds up to the pixel", function()
-  local s = rich_scene()
+  local s = rich_scene(true)
   local img = s:render{width = W, height = H}
   for _, xy in ipairs{{5, 10}, {17, 8}, {12, 15}, {1, 1}} do
     local tree = s:explain{x = xy[1], y = xy[2], width = W, height = H}
