@@ -49,7 +49,7 @@ double ellipsoid_area(const placed_geom *g)
     return placed_patch_area(g, patch, 64);
 }
 
-static const sphere_geom unit = {{0, 0, 0}, 1, 1, 1};
+static const sphere_geom unit = {{0, 0, 0}, 1};
 
 double ellipsoid_t(const placed_geom *g, const ray *r, double tmin, double tmax)
 {

@@ -23,10 +23,6 @@ void sphere_prepare(const lc_shape *s, sphere_geom *g)
 {
     g->c = s->p;
     g->r = s->radius;
-    g->r2 = s->radius * s->radius;
-    g->extent = s->radius + fabs(s->p.x) + fabs(s->p.y) + fabs(s->p.z);
-    if (!(g->r2 > 0) || !isfinite(g->r2))   /* 1e-300 or 1e300: beyond double */
-        g->r2 = 0;
 }
 
 void sphere_describe(const sphere_geom *g, lc_shape *s)
@@ -97,7 +93,7 @@ int sphere_finish(const sphere_geom *s, const ray *r, double t, hit *h)
         ** point is v -+ sqrt(disc) d, with no cancellation (H12). */
         double b = v3_dot(f, r->d);
         lc_vec3 v = v3_madd(f, r->d, -b);
-        double root = sqrt(fmax(0, s->r2 - v3_dot(v, v)));
+        double root = sqrt(fmax(0, sphere_r2(s) - v3_dot(v, v)));
         pl = v3_madd(v, r->d, t < -b ? -root : root);
         len = v3_len(pl);
         if (!(len > 0))
