@@ -93,7 +93,7 @@ int sphere_finish(const sphere_geom *s, const ray *r, double t, hit *h)
         ** point is v -+ sqrt(disc) d, with no cancellation (H12). */
         double b = v3_dot(f, r->d);
         lc_vec3 v = v3_madd(f, r->d, -b);
-        double root = sqrt(fmax(0, sphere_r2(s) - v3_dot(v, v)));
+        double root = sqrt(fmax(0, s->r * s->r - v3_dot(v, v)));
         pl = v3_madd(v, r->d, t < -b ? -root : root);
         len = v3_len(pl);
         if (!(len > 0))
