@@ -505,13 +505,15 @@ static inline int bvh_lone_leaf(const bvh *b)
     return b->lone;
 }
 
-/* bvh_test_scalar's arithmetic for the root's one child: 1 when met. */
-ALWAYS_INLINE int bvh_test_lone(const bvh_node *nd, const bvh_ray *q, double tmax)
+/* bvh_test_scalar's arithmetic for child c alone: 1 when the ray meets it
+** before tmax (the root's one child; a packet's leaf, for each of its rays). */
+ALWAYS_INLINE int bvh_test_slot(const bvh_node *nd, unsigned c, const bvh_ray *q,
+                                double tmax)
 {
     double t0 = 0, t1 = tmax;
     for (int k = 0; k < 3; k++) {
-        double a = ((double)nd->lo[k][0] - q->o[k]) * q->inv[k];
-        double b = ((double)nd->hi[k][0] - q->o[k]) * q->inv[k];
+        double a = ((double)nd->lo[k][c] - q->o[k]) * q->inv[k];
+        double b = ((double)nd->hi[k][c] - q->o[k]) * q->inv[k];
         double near = q->neg[k] ? b : a, far = (q->neg[k] ? a : b) * BVH_WIDEN;
         t0 = near > t0 ? near : t0;
         t1 = far < t1 ? far : t1;
@@ -524,7 +526,7 @@ ALWAYS_INLINE uint64_t bvh_closest_lone(const bvh *b, const bvh_ray *q, double t
                                         double (*leaf)(void *ctx, uint32_t at, double tmax))
 {
     const bvh_node *nd = &b->nodes[0];
-    if (bvh_test_lone(nd, q, tmax))
+    if (bvh_test_slot(nd, 0, q, tmax))
         for (uint32_t k = 0; k < nd->count[0]; k++)
             tmax = leaf(ctx, nd->child[0] + k, tmax);
     return 1;
@@ -536,7 +538,7 @@ ALWAYS_INLINE int bvh_any_lone(const bvh *b, const bvh_ray *q, double tmax, void
 {
     const bvh_node *nd = &b->nodes[0];
     ++*nodes;
-    if (bvh_test_lone(nd, q, tmax))
+    if (bvh_test_slot(nd, 0, q, tmax))
         for (uint32_t k = 0; k < nd->count[0]; k++)
             if (leaf(ctx, nd->child[0] + k, tmax))
                 return 1;

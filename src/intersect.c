@@ -2,6 +2,7 @@
 ** everything else through the BVH. */
 #include "scene.h"
 #include "triangle4.h"
+#include "bvh_packet.h"
 
 /* Each kind's prepared shapes, as the switches below read them. */
 #define SPHERES(s) ((const sphere_geom *)(s)->shapes[LC_SPHERE].geom)
@@ -303,24 +304,43 @@ BVH_DISPATCH(uint64_t, closest_walk,
                                                                : closest_run_simd,
                                      BVH_TEST);)
 
+/* A closest-hit search begun: the query made and the planes tested, which
+** bound tmax (returned). */
+static double closest_begin(const lc_scene *s, const ray *r, double tmax, hit *h, hit *tmp,
+                            query *q, closest *c, bvh_counts *counts)
+{
+    query_init(q, r, s->c.nflat > 0);
+    const plane_geom *planes = PLANES(s);
+    size_t nplanes = s->shapes[LC_PLANE].n;
+    *c = (closest){s, q, 0, 0, h, tmp, nplanes, counts};
+    for (size_t i = 0; i < nplanes; i++) {      /* planes first: they bound tmax */
+        double t = plane_query_t(planes + i, q->r, q->b.o, q->b.inv, tmax);
+        if (t > 0 && (c->best == 0 || t < c->best)) {  /* in id order: a tie keeps the first */
+            c->best = t;
+            c->best_id = PRIM_ID(PRIM_PLANE, i);
+            tmax = next_up(t);
+        }
+    }
+    return tmax;
+}
+
+/* The nearest hit found, finished into *c->h: 1 if any. */
+static int closest_end(const closest *c)
+{
+    if (c->best == 0 || !prim_finish(c->s, c->best_id, c->q, c->best, c->h))
+        return 0;
+    shading_normal(c->s, c->h);
+    return 1;
+}
+
 int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
                     bvh_counts *counts)
 {
     bvh_counts spare;      /* nested searches count into counts, or here */
     hit tmp;
     query q;
-    query_init(&q, r, s->c.nflat > 0);
-    const plane_geom *planes = PLANES(s);
-    size_t nplanes = s->shapes[LC_PLANE].n;
-    closest c = {s, &q, 0, 0, h, &tmp, nplanes, counts ? counts : &spare};
-    for (size_t i = 0; i < nplanes; i++) {      /* planes first: they bound tmax */
-        double t = plane_query_t(planes + i, q.r, q.b.o, q.b.inv, tmax);
-        if (t > 0 && (c.best == 0 || t < c.best)) {   /* in id order: a tie keeps the first */
-            c.best = t;
-            c.best_id = PRIM_ID(PRIM_PLANE, i);
-            tmax = next_up(t);
-        }
-    }
+    closest c;
+    tmax = closest_begin(s, r, tmax, h, &tmp, &q, &c, counts ? counts : &spare);
     uint64_t nn = bvh_lone_leaf(&s->c.bvh) ? bvh_closest_lone(&s->c.bvh, &q.b, tmax, &c,
                                                               closest_leaf)
                                            : closest_walk(&s->c.bvh, &q.b, tmax, &c);
@@ -328,10 +348,167 @@ int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
         counts->prims += c.np;
         counts->nodes += nn;
     }
-    if (c.best == 0 || !prim_finish(s, c.best_id, &q, c.best, h))
-        return 0;
-    shading_normal(s, h);
-    return 1;
+    return closest_end(&c);
+}
+
+/* ---- Packets: neighbouring rays of an array walked together ---- */
+
+/* A packet's closest-hit searches, one per ray, and its own box test. */
+typedef struct {
+    const lc_scene *s;
+    closest   *c;
+    double    *tmax;       /* each ray's */
+    int        n;
+    bvh_packet p;
+} packet;
+
+/* Leaf refs[at, at + count), child slot of node nd, tested for each ray
+** that meets its box before its own tmax. Returns the largest tmax. */
+ALWAYS_INLINE double packet_leaf(packet *k, const bvh_node *nd, unsigned slot, int simd)
+{
+    uint32_t at = nd->child[slot], count = nd->count[slot];
+    double most = 0;
+    for (int i = 0; i < k->n; i++) {
+        if (bvh_test_slot(nd, slot, &k->c[i].q->b, k->tmax[i]))
+            k->tmax[i] = closest_run(&k->c[i], at, count, k->tmax[i], simd);
+        most = k->tmax[i] > most ? k->tmax[i] : most;
+    }
+    return most;
+}
+
+/* bvh_closest_runs for the packet: the children its test meets, nearest
+** entry first, each leaf tested by the rays that meet it, tmax the
+** largest of the rays'. A pushed child holds its node too, for the test
+** of a leaf's box. */
+typedef struct {
+    const bvh_node *nd;
+    unsigned slot;
+    double   t;
+} packet_entry;
+
+ALWAYS_INLINE void packet_walk(packet *k, const bvh *b,
+                               unsigned (*test)(const bvh_node *, const bvh_packet *, double,
+                                                double *),
+                               int simd)
+{
+    double tmax = 0;
+    for (int i = 0; i < k->n; i++)
+        tmax = k->tmax[i] > tmax ? k->tmax[i] : tmax;
+    packet_entry stack[BVH_STACK];
+    int sp = 0;
+    const bvh_node *nd = &b->nodes[0];
+    for (;;) {
+        double t[BVH_WIDTH];
+        unsigned m = test(nd, &k->p, tmax, t);
+        const bvh_node *next = NULL;
+        if (m) {
+            packet_entry e[BVH_WIDTH];
+            int h = 0;
+            while (m) {
+                unsigned c = (unsigned)__builtin_ctz(m);
+                m &= m - 1;
+                int j = h++;
+                while (j > 0 && e[j - 1].t > t[c]) {
+                    e[j] = e[j - 1];
+                    j--;
+                }
+                e[j] = (packet_entry){nd, c, t[c]};
+            }
+            for (int j = h - 1; j > 0; j--)
+                stack[sp++] = e[j];
+            if (e[0].nd->count[e[0].slot] == 0)
+                next = &b->nodes[e[0].nd->child[e[0].slot]];
+            else
+                tmax = packet_leaf(k, e[0].nd, e[0].slot, simd);
+        }
+        while (!next) {
+            if (sp == 0)
+                return;
+            const packet_entry *q = &stack[--sp];
+            if (q->t > tmax)
+                continue;
+            if (q->nd->count[q->slot] == 0)
+                next = &b->nodes[q->nd->child[q->slot]];
+            else
+                tmax = packet_leaf(k, q->nd, q->slot, simd);
+        }
+        nd = next;
+    }
+}
+
+/* name(k, b): walk(k, b, test, simd) built for each box test, as
+** BVH_DISPATCH does for one ray, and called as bvh_simd says. */
+#define PACKET_DISPATCH(name, state, walk)                                    \
+    static void name##_scalar(state *k, const bvh *b)                         \
+    {                                                                         \
+        walk(k, b, bvh_packet_test_scalar, 0);                                \
+    }                                                                         \
+    BVH_AVX_TARGET static void name##_avx(state *k, const bvh *b)             \
+    {                                                                         \
+        walk(k, b, bvh_packet_test_avx, 1);                                   \
+    }                                                                         \
+    BVH_AVX512_TARGET static void name##_avx512(state *k, const bvh *b)       \
+    {                                                                         \
+        walk(k, b, bvh_packet_test_avx512, 1);                                \
+    }                                                                         \
+    static void name(state *k, const bvh *b)                                  \
+    {                                                                         \
+        if (bvh_simd == BVH_SIMD_AVX512)                                      \
+            name##_avx512(k, b);                                              \
+        else if (bvh_simd == BVH_SIMD_AVX)                                    \
+            name##_avx(k, b);                                                 \
+        else                                                                  \
+            name##_scalar(k, b);                                              \
+    }
+
+PACKET_DISPATCH(closest_packet, packet, packet_walk)
+
+/* Whether the directions r[0, n) share their signs on every axis (-0
+** counts as negative, as a reciprocal's sign does), which a packet's box
+** test needs: otherwise its bounds would span every direction. */
+static int same_signs(const ray *r, int n)
+{
+    unsigned first = 0, all = 0;
+    for (int i = 0; i < n; i++) {
+        unsigned sg = (unsigned)!!signbit(r[i].d.x) | (unsigned)!!signbit(r[i].d.y) << 1 |
+                      (unsigned)!!signbit(r[i].d.z) << 2;
+        if (i == 0)
+            first = sg;
+        all |= sg ^ first;
+    }
+    return all == 0;
+}
+
+void intersect_closest_n(const lc_scene *s, const ray *r, const double *tmax, int n, hit *h,
+                         int *found)
+{
+    const bvh *b = &s->c.bvh;
+    if (n < 2 || !b->nnodes || bvh_lone_leaf(b) || !same_signs(r, n)) {
+        for (int i = 0; i < n; i++)
+            found[i] = intersect_closest(s, &r[i], tmax[i], &h[i], NULL);
+        return;
+    }
+    bvh_counts spare;
+    hit tmp[BVH_PACKET];
+    query q[BVH_PACKET];
+    closest c[BVH_PACKET];
+    double tm[BVH_PACKET];
+    packet k = {.s = s, .c = c, .tmax = tm, .n = n};
+    int together = 1;
+    for (int i = 0; i < n; i++) {
+        tm[i] = closest_begin(s, &r[i], tmax[i], &h[i], &tmp[i], &q[i], &c[i], &spare);
+        if (i == 0)
+            bvh_packet_start(&k.p, &q[0].b);
+        else
+            together &= bvh_packet_add(&k.p, &q[i].b);
+    }
+    if (!together)
+        for (int i = 0; i < n; i++)
+            closest_walk(b, &q[i].b, tm[i], &c[i]);
+    else
+        closest_packet(&k, b);
+    for (int i = 0; i < n; i++)
+        found[i] = closest_end(&c[i]);
 }
 
 /* The any-hit search's state. */
@@ -417,28 +594,148 @@ BVH_DISPATCH(int, any_walk, (const bvh *b, const bvh_ray *q, double tmax, any *a
                                  BVH_LEVEL == BVH_SIMD_OFF ? any_run_plain : any_run_simd,
                                  &a->nn, BVH_TEST);)
 
+/* An any-hit search begun: the query made and the planes tested; 1 when
+** one blocks the ray (the search is then over). */
+ALWAYS_INLINE int any_begin(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
+                            query *q, any *a, hit *tmp, uint64_t *np, bvh_counts *inner)
+{
+    query_init(q, r, s->c.nflat > 0);
+    const plane_geom *planes = PLANES(s);
+    size_t nplanes = s->shapes[LC_PLANE].n;
+    for (size_t i = 0; i < nplanes; i++)
+        if (plane_query_t(planes + i, q->r, q->b.o, q->b.inv, tmax) > 0) {
+            *np += i + 1;
+            return 1;
+        }
+    *np += nplanes;
+    *a = (any){s, q, r, skip, tmp, 0, 0, inner};
+    return 0;
+}
+
 /* Any hit: the first primitive found in (0, tmax) ends the search. */
 ALWAYS_INLINE int occluded(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
                            uint64_t *np, uint64_t *nn, bvh_counts *inner)
 {
     query q;
-    query_init(&q, r, s->c.nflat > 0);
-    const plane_geom *planes = PLANES(s);
-    size_t nplanes = s->shapes[LC_PLANE].n;
-    for (size_t i = 0; i < nplanes; i++)
-        if (plane_query_t(planes + i, q.r, q.b.o, q.b.inv, tmax) > 0) {
-            *np += i + 1;
-            return 1;
-        }
-    *np += nplanes;
+    any a;
     hit tmp;
-    any a = {s, &q, r, skip, &tmp, 0, 0, inner};
+    if (any_begin(s, r, tmax, skip, &q, &a, &tmp, np, inner))
+        return 1;
     int found = bvh_lone_leaf(&s->c.bvh) ? bvh_any_lone(&s->c.bvh, &q.b, tmax, &a, any_leaf,
                                                         &a.nn)
                                          : any_walk(&s->c.bvh, &q.b, tmax, &a);
     *np += a.np;
     *nn += a.nn;
     return found;
+}
+
+/* A packet's any-hit searches: the rays not yet blocked (live, a mask),
+** each with its own tmax. */
+typedef struct {
+    any       *a;
+    const double *tmax;
+    int       *blocked;
+    unsigned   live;
+    bvh_packet p;
+} any_packet;
+
+/* Leaf slot of node nd tested for each live ray that meets its box; the
+** largest tmax of those still live. */
+ALWAYS_INLINE double any_packet_leaf(any_packet *k, const bvh_node *nd, unsigned slot,
+                                     int simd)
+{
+    uint32_t at = nd->child[slot], count = nd->count[slot];
+    double most = 0;
+    for (unsigned m = k->live; m; m &= m - 1) {
+        int i = __builtin_ctz(m);
+        if (bvh_test_slot(nd, slot, &k->a[i].q->b, k->tmax[i]) &&
+            any_run(&k->a[i], at, count, k->tmax[i], simd)) {
+            k->blocked[i] = 1;
+            k->live &= ~(1u << i);
+        } else
+            most = k->tmax[i] > most ? k->tmax[i] : most;
+    }
+    return most;
+}
+
+/* bvh_any_runs for the packet: children in slot order, until every ray is
+** blocked. */
+ALWAYS_INLINE void any_packet_walk(any_packet *k, const bvh *b,
+                                   unsigned (*test)(const bvh_node *, const bvh_packet *,
+                                                    double, double *),
+                                   int simd)
+{
+    double tmax = 0;
+    for (unsigned m = k->live; m; m &= m - 1)
+        tmax = k->tmax[__builtin_ctz(m)] > tmax ? k->tmax[__builtin_ctz(m)] : tmax;
+    uint32_t stack[BVH_STACK];
+    int sp = 0;
+    uint32_t ni = 0;
+    for (;;) {
+        const bvh_node *nd = &b->nodes[ni];
+        double t[BVH_WIDTH];
+        unsigned m = test(nd, &k->p, tmax, t);
+        int descend = 0;
+        while (m) {
+            unsigned c = (unsigned)__builtin_ctz(m);
+            m &= m - 1;
+            if (nd->count[c]) {
+                tmax = any_packet_leaf(k, nd, c, simd);
+                if (!k->live)
+                    return;
+            } else if (!descend) {
+                descend = 1;
+                ni = nd->child[c];
+            } else
+                stack[sp++] = nd->child[c];
+        }
+        if (descend)
+            continue;
+        if (sp == 0)
+            return;
+        ni = stack[--sp];
+    }
+}
+
+PACKET_DISPATCH(occluded_packet, any_packet, any_packet_walk)
+
+void intersect_occluded_n(const lc_scene *s, const ray *r, const double *tmax, int n,
+                          int *blocked)
+{
+    const bvh *b = &s->c.bvh;
+    if (n < 2 || !b->nnodes || bvh_lone_leaf(b) || !same_signs(r, n)) {
+        for (int i = 0; i < n; i++)
+            blocked[i] = intersect_occluded(s, &r[i], tmax[i], NULL);
+        return;
+    }
+    bvh_counts spare;
+    hit tmp[BVH_PACKET];
+    query q[BVH_PACKET];
+    any a[BVH_PACKET];
+    uint64_t np = 0;
+    any_packet k = {.a = a, .tmax = tmax, .blocked = blocked, .live = 0};
+    int together = 1, first = 1;
+    for (int i = 0; i < n; i++) {
+        blocked[i] = any_begin(s, &r[i], tmax[i], INTERSECT_SKIP_NONE, &q[i], &a[i], &tmp[i],
+                               &np, &spare);
+        if (blocked[i])
+            continue;
+        k.live |= 1u << i;
+        if (first)
+            bvh_packet_start(&k.p, &q[i].b);
+        else
+            together &= bvh_packet_add(&k.p, &q[i].b);
+        first = 0;
+    }
+    if (!k.live)
+        return;
+    if (!together)
+        for (unsigned m = k.live; m; m &= m - 1) {
+            int i = __builtin_ctz(m);
+            blocked[i] = any_walk(b, &q[i].b, tmax[i], &a[i]);
+        }
+    else
+        occluded_packet(&k, b);
 }
 
 int intersect_occluded(const lc_scene *s, const ray *r, double tmax, bvh_counts *counts)

@@ -4,6 +4,7 @@
 #include "interrupt.h"
 #include "scene.h"
 #include "validate.h"
+#include "bvh_packet.h"
 
 static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive);
 
@@ -54,6 +55,20 @@ static cast cast_of(const lc_ray *q)
     return c;
 }
 
+/* The next block of rays (up to BVH_PACKET of the `left`), cast: the rays
+** walked together when they can (intersect_closest_n). Returns how many. */
+static int cast_block(const lc_ray *rays, size_t left, ray *r, double *tmax, double *len)
+{
+    int m = left < BVH_PACKET ? (int)left : BVH_PACKET;
+    for (int j = 0; j < m; j++) {
+        cast c = cast_of(&rays[j]);
+        r[j] = c.r;
+        tmax[j] = c.tmax;
+        len[j] = c.len;
+    }
+    return m;
+}
+
 /* Validates every ray, then compiles the geometry if it changed, under the
 ** scene's lock (a render in progress holds it); tracing needs no lock, so
 ** several threads cast into one scene at once. */
@@ -97,33 +112,45 @@ static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive
     return s->meshes[h->instance ? h->instance - 1 : tr->mesh].id;
 }
 
+/* The caller's answer for its ray q (h: the hit, NULL for none; len: |d|). */
+static void put_hit(const lc_scene *s, const lc_ray *q, double len, const hit *h,
+                    lc_ray_hit *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!h) {
+        out->object = -1;
+        out->shape_kind = -1;
+        out->material = -1;
+        return;
+    }
+    out->hit = 1;
+    out->t = q->tmin + h->t / len;
+    out->point = h->p;
+    out->normal = h->n;
+    out->shading_normal = h->ns;
+    intersect_uv(s, h, out->uv);
+    out->object = object_of(s, h, &out->shape_kind, &out->primitive);
+    out->material = h->material;
+}
+
 static lc_status intersect_rays(lc_scene *s, const lc_ray *rays, size_t n,
                                   lc_ray_hit *hits, lc_error *err)
 {
     sig_atomic_t seen = interrupt_count();
     if (begin(s, rays, n, seen, err))
         return err ? err->code : LC_EARG;
-    for (size_t i = 0; i < n; i++) {
-        if (i % POLL == POLL - 1 && interrupt_count() != seen)
+    for (size_t i = 0; i < n; i += BVH_PACKET) {
+        if (i % POLL == POLL - BVH_PACKET && interrupt_count() != seen)
             return error_fail(err, LC_ECANCEL, NULL, "interrupted after %zu of %zu rays", i, n);
-        cast c = cast_of(&rays[i]);
-        lc_ray_hit *out = &hits[i];
-        hit h;
-        memset(out, 0, sizeof *out);
-        if (!intersect_closest(s, &c.r, c.tmax, &h, NULL)) {
-            out->object = -1;
-            out->shape_kind = -1;
-            out->material = -1;
-            continue;
-        }
-        out->hit = 1;
-        out->t = rays[i].tmin + h.t / c.len;
-        out->point = h.p;
-        out->normal = h.n;
-        out->shading_normal = h.ns;
-        intersect_uv(s, &h, out->uv);
-        out->object = object_of(s, &h, &out->shape_kind, &out->primitive);
-        out->material = h.material;
+        ray r[BVH_PACKET];
+        double tmax[BVH_PACKET], len[BVH_PACKET];
+        hit h[BVH_PACKET];
+        int found[BVH_PACKET];
+        int m = cast_block(rays + i, n - i, r, tmax, len);
+        intersect_closest_n(s, r, tmax, m, h, found);
+        for (int j = 0; j < m; j++)
+            put_hit(s, &rays[i + (size_t)j], len[j], found[j] ? &h[j] : NULL,
+                    &hits[i + (size_t)j]);
     }
     error_ok(err);
     return LC_OK;
@@ -135,11 +162,16 @@ static lc_status occluded_rays(lc_scene *s, const lc_ray *rays, size_t n,
     sig_atomic_t seen = interrupt_count();
     if (begin(s, rays, n, seen, err))
         return err ? err->code : LC_EARG;
-    for (size_t i = 0; i < n; i++) {
-        if (i % POLL == POLL - 1 && interrupt_count() != seen)
+    for (size_t i = 0; i < n; i += BVH_PACKET) {
+        if (i % POLL == POLL - BVH_PACKET && interrupt_count() != seen)
             return error_fail(err, LC_ECANCEL, NULL, "interrupted after %zu of %zu rays", i, n);
-        cast c = cast_of(&rays[i]);
-        blocked[i] = (unsigned char)intersect_occluded(s, &c.r, c.tmax, NULL);
+        ray r[BVH_PACKET];
+        double tmax[BVH_PACKET], len[BVH_PACKET];
+        int found[BVH_PACKET];
+        int m = cast_block(rays + i, n - i, r, tmax, len);
+        intersect_occluded_n(s, r, tmax, m, found);
+        for (int j = 0; j < m; j++)
+            blocked[i + (size_t)j] = (unsigned char)found[j];
     }
     error_ok(err);
     return LC_OK;

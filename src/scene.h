@@ -163,8 +163,18 @@ int    instance_occluded(const lc_scene *s, uint32_t i, const ray *r, double tma
 /* Nearest hit with 0 < t < tmax; 1 if any. counts may be NULL. */
 int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
                     bvh_counts *counts);
+/* intersect_closest for rays r[0, n) (n <= BVH_PACKET, bvh_packet.h), each
+** with its own tmax, uncounted: found[i] and h[i] as it gives for r[i],
+** the same bits. Rays whose directions share their signs walk the BVH
+** together, each leaf tested by the rays that meet its box. */
+void intersect_closest_n(const lc_scene *s, const ray *r, const double *tmax, int n, hit *h,
+                         int *found);
 /* 1 if anything lies on the ray with 0 < t < tmax. counts may be NULL. */
 int intersect_occluded(const lc_scene *s, const ray *r, double tmax, bvh_counts *counts);
+/* The same for rays r[0, n) (n <= BVH_PACKET), uncounted, into blocked[],
+** walked together as intersect_closest_n's. */
+void intersect_occluded_n(const lc_scene *s, const ray *r, const double *tmax, int n,
+                          int *blocked);
 /* The texture coordinates of a hit intersect_closest found: computed only
 ** when asked (a scene without textures never pays for them). */
 void intersect_uv(const lc_scene *s, const hit *h, double uv[2]);

@@ -311,6 +311,47 @@ static void intersect_and_occluded_agree(void **state)
     lc_scene_free(s);
 }
 
+/* A camera's rays, cast as one array (neighbours walk the BVH together) and
+** one at a time: the same answers, byte for byte; the same for occluded. */
+static void arrays_answer_as_single_rays(void **state)
+{
+    (void)state;
+    lc_shape shapes[64];
+    int n = 0;
+    for (int i = 0; i < 8; i++)
+        for (int j = 0; j < 8; j++)
+            shapes[n++] = (i + j) % 3 ? (lc_shape){.kind = LC_SPHERE,
+                                                    .p = {i - 3.5, j - 3.5, 0}, .radius = 0.45}
+                                      : (lc_shape){.kind = LC_BOX, .p = {i - 3.9, j - 3.9, -0.4},
+                                                   .u = {0.8, 0, 0}, .v = {0, 0.8, 0},
+                                                   .w = {0, 0, 0.8}};
+    lc_scene *s = scene_with(shapes, n, NULL);
+    enum { W = 64, H = 48, N = W * H };
+    lc_ray *r = malloc(N * sizeof *r);
+    lc_ray_hit *all = malloc(N * sizeof *all), one;
+    unsigned char *blocked = malloc(N), b1;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            r[y * W + x] = (lc_ray){{0.3, -0.2, 9}, {(x + 0.5) / W - 0.5, (y + 0.5) / H - 0.5,
+                                                    -1}, 0, (x + y) % 5 ? HUGE_VAL : 9.2};
+    lc_error err;
+    assert_int_equal(lc_scene_intersect(s, r, N, all, &err), LC_OK);
+    assert_int_equal(lc_scene_occluded(s, r, N, blocked, &err), LC_OK);
+    int hits = 0;
+    for (int i = 0; i < N; i++) {
+        assert_int_equal(lc_scene_intersect(s, &r[i], 1, &one, &err), LC_OK);
+        assert_int_equal(lc_scene_occluded(s, &r[i], 1, &b1, &err), LC_OK);
+        if (memcmp(&one, &all[i], sizeof one) != 0 || b1 != blocked[i])
+            fail_msg("ray %d: the array's answer differs from the ray's own", i);
+        hits += one.hit;
+    }
+    assert_true(hits > N / 3 && hits < N);
+    free(r);
+    free(all);
+    free(blocked);
+    lc_scene_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -320,6 +361,7 @@ int main(void)
         cmocka_unit_test(meshes_name_their_faces),
         cmocka_unit_test(bad_rays_are_named),
         cmocka_unit_test(intersect_and_occluded_agree),
+        cmocka_unit_test(arrays_answer_as_single_rays),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -14,6 +14,7 @@
 #include "mem.h"
 #include "scene.h"
 #include "triangle4.h"
+#include "bvh_packet.h"
 
 #define M_PI 3.14159265358979323846
 #define RANDOM_RAYS      100000
@@ -821,6 +822,107 @@ static void triangle4_lanes_are_triangle_t(void **state)
     }
 }
 
+/* ---- packets: neighbouring rays of an array walked together ------------------------- */
+
+/* Everything a caller reads of a hit, to the bit (the weights only on a
+** face: on other shapes they are scratch no one reads). */
+static int same_vec(lc_vec3 a, lc_vec3 b)
+{
+    return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+
+static int same_full_hit(int fa, const hit *a, int fb, const hit *b)
+{
+    if (fa != fb)
+        return 0;
+    if (!fa)
+        return 1;
+    return a->t == b->t && a->shape == b->shape && a->instance == b->instance &&
+           a->material == b->material && same_vec(a->p, b->p) && same_vec(a->n, b->n) &&
+           same_vec(a->ns, b->ns) &&
+           (PRIM_KIND(a->shape) != PRIM_TRIANGLE ||
+            (a->bary[0] == b->bary[0] && a->bary[1] == b->bary[1] && a->bary[2] == b->bary[2]));
+}
+
+/* Whether the rays can walk as one packet (bvh_packet.h's conditions). */
+static int walks_together(const ray *r, int n)
+{
+    bvh_ray q[BVH_PACKET];
+    bvh_packet p;
+    for (int i = 0; i < n; i++)
+        bvh_ray_init(&q[i], r[i].o, r[i].d);
+    bvh_packet_start(&p, &q[0]);
+    int ok = n >= 2;
+    for (int i = 1; i < n; i++)
+        ok &= bvh_packet_add(&p, &q[i]);
+    return ok;
+}
+
+/* Packets of 2 to 8 rays from one origin (random, or an adversarial ray's:
+** on node boundaries, inside boxes, along axes, grazing spheres and
+** faces, at mesh vertices), their directions spread from none (the same
+** ray eight times) to wide, each with its own tmax: intersect_closest_n
+** and intersect_occluded_n give each ray, under each box test, what
+** intersect_closest and intersect_occluded give it alone, to the bit. */
+static void packets_match_single_rays(void **state)
+{
+    (void)state;
+    lc_scene *s = mixed_scene();
+    enum { PACKETS = 24000 };
+    static const double spread[] = {0, 1e-12, 1e-6, 1e-3, 3e-2, 0.3};
+    static const int levels[] = {BVH_SIMD_AVX512, BVH_SIMD_AVX, BVH_SIMD_OFF};
+    long rays = 0, together = 0, hits = 0, blocked = 0, mismatches = 0;
+    int was = bvh_simd_set(BVH_SIMD_AVX512);
+    for (int i = 0; i < PACKETS; i++) {
+        ray base = i % 2 ? adversarial(s, i / 2) : (ray){rvec(-15, 15), random_dir()};
+        int n = i % 4 ? BVH_PACKET : 2 + (int)(rnd() * (BVH_PACKET - 1));
+        double sp = spread[(i / 2) % 6];
+        ray r[BVH_PACKET];
+        double tmax[BVH_PACKET];
+        for (int j = 0; j < n; j++) {
+            lc_vec3 d = v3_add(base.d, v3_mul(rvec(-1, 1), sp));
+            r[j] = (ray){base.o, v3_len(d) > 0 ? v3_norm(d) : base.d};
+            tmax[j] = rnd() < 0.7 ? HUGE_VAL : range(0.5, 30);
+        }
+        rays += n;
+        together += walks_together(r, n) ? n : 0;
+        hit single[BVH_PACKET];
+        int fs[BVH_PACKET], os[BVH_PACKET];
+        bvh_simd_set(BVH_SIMD_AVX512);
+        for (int j = 0; j < n; j++) {
+            memset(&single[j], 0, sizeof single[j]);
+            fs[j] = intersect_closest(s, &r[j], tmax[j], &single[j], NULL);
+            os[j] = intersect_occluded(s, &r[j], tmax[j], NULL);
+            hits += fs[j];
+            blocked += os[j];
+        }
+        for (size_t l = 0; l < sizeof levels / sizeof *levels; l++) {
+            bvh_simd_set(levels[l]);
+            hit h[BVH_PACKET];
+            int f[BVH_PACKET], o[BVH_PACKET];
+            memset(h, 0, sizeof h);
+            intersect_closest_n(s, r, tmax, n, h, f);
+            intersect_occluded_n(s, r, tmax, n, o);
+            for (int j = 0; j < n; j++)
+                if (!same_full_hit(fs[j], &single[j], f[j], &h[j]) || os[j] != o[j]) {
+                    mismatches++;
+                    if (getenv("DEBUG_WIDE"))
+                        printf("packet %d ray %d level %d: alone %d t=%.17g id=%x, packet %d "
+                               "t=%.17g id=%x; occluded %d/%d; p %d n %d ns %d m %d/%d b %g/%g\n", i, j, levels[l], fs[j],
+                               single[j].t, single[j].shape, f[j], h[j].t, h[j].shape, os[j],
+                               o[j], same_vec(single[j].p, h[j].p), same_vec(single[j].n, h[j].n), same_vec(single[j].ns, h[j].ns), single[j].material, h[j].material, single[j].bary[0], h[j].bary[0]);
+                }
+        }
+    }
+    bvh_simd_set(was);
+    printf("packets: %ld rays, %ld in packets that walk together, %ld hits, %ld blocked, "
+           "%ld mismatches\n", rays, together, hits, blocked, mismatches);
+    assert_int_equal(mismatches, 0);
+    assert_true(together > rays / 2);
+    assert_true(hits > rays / 4 && blocked > rays / 4);
+    lc_scene_free(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -828,6 +930,7 @@ int main(void)
         cmocka_unit_test(triangle4_lanes_are_triangle_t),
         cmocka_unit_test(wide_bvh_matches_the_scan),
         cmocka_unit_test(lone_leaf_matches_the_scan),
+        cmocka_unit_test(packets_match_single_rays),
         cmocka_unit_test(images_do_not_depend_on_simd_or_threads),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
