@@ -306,13 +306,20 @@ BVH_DISPATCH(uint64_t, closest_walk,
 
 /* A closest-hit search begun: the query made and the planes tested, which
 ** bound tmax (returned). */
-static double closest_begin(const lc_scene *s, const ray *r, double tmax, hit *h, hit *tmp,
+ALWAYS_INLINE double closest_begin(const lc_scene *s, const ray *r, double tmax, hit *h, hit *tmp,
                             query *q, closest *c, bvh_counts *counts)
 {
     query_init(q, r, s->c.nflat > 0);
     const plane_geom *planes = PLANES(s);
     size_t nplanes = s->shapes[LC_PLANE].n;
-    *c = (closest){s, q, 0, 0, h, tmp, nplanes, counts};
+    c->s = s;
+    c->q = q;
+    c->best = 0;
+    c->best_id = 0;
+    c->h = h;
+    c->tmp = tmp;
+    c->np = nplanes;
+    c->inner = counts;
     for (size_t i = 0; i < nplanes; i++) {      /* planes first: they bound tmax */
         double t = plane_query_t(planes + i, q->r, q->b.o, q->b.inv, tmax);
         if (t > 0 && (c->best == 0 || t < c->best)) {  /* in id order: a tie keeps the first */
@@ -325,7 +332,7 @@ static double closest_begin(const lc_scene *s, const ray *r, double tmax, hit *h
 }
 
 /* The nearest hit found, finished into *c->h: 1 if any. */
-static int closest_end(const closest *c)
+ALWAYS_INLINE int closest_end(const closest *c)
 {
     if (c->best == 0 || !prim_finish(c->s, c->best_id, c->q, c->best, c->h))
         return 0;
