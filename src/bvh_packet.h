@@ -20,19 +20,10 @@ typedef struct {
     int    neg[3];
 } bvh_packet;
 
-/* Starts *p with ray q, then adds ray q to it: 0 when q cannot join, its
-** origin another or its reciprocals differing in sign on an axis from the
-** packet's, or one infinite (a direction along an axis plane, whose slab
-** distances may be NaN). */
-static inline void bvh_packet_start(bvh_packet *p, const bvh_ray *q)
-{
-    for (int k = 0; k < 3; k++) {
-        p->neg[k] = q->neg[k];
-        p->o[k] = q->o[k];
-        p->ilo[k] = p->ihi[k] = q->inv[k];
-    }
-}
-
+/* Adds ray q to packet *p: 0 when q cannot join, its origin another or
+** its reciprocals differing in sign on an axis from the packet's, or one
+** infinite (a direction along an axis plane, whose slab distances may be
+** NaN). */
 static inline int bvh_packet_add(bvh_packet *p, const bvh_ray *q)
 {
     for (int k = 0; k < 3; k++) {
@@ -43,6 +34,18 @@ static inline int bvh_packet_add(bvh_packet *p, const bvh_ray *q)
         p->ihi[k] = inv > p->ihi[k] ? inv : p->ihi[k];
     }
     return 1;
+}
+
+/* Starts *p with ray q, which must pass bvh_packet_add's checks as the
+** others do (0 if not). */
+static inline int bvh_packet_start(bvh_packet *p, const bvh_ray *q)
+{
+    for (int k = 0; k < 3; k++) {
+        p->neg[k] = q->neg[k];
+        p->o[k] = q->o[k];
+        p->ilo[k] = p->ihi[k] = q->inv[k];
+    }
+    return bvh_packet_add(p, q);
 }
 
 /* Why a box this test rejects is one no ray of the packet enters by its

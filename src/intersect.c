@@ -247,12 +247,6 @@ static inline void leaf_batch(const query *q, const lc_scene *s, uint32_t at, in
         triangle4_scalar(&f, n, q->r, &q->sh, tmax, t, bary);
 }
 
-/* A leaf of two or more flat triangles is tested four at a time against
-** the tmax each group of four begins with, its nearest kept as
-** closest_leaf keeps it (the lower id on a tie); with or without SIMD the
-** same batches. Any other leaf: closest_leaf on each, in order. A batch
-** has no early outs per face to mispredict: lc-raycast b3 707, incoherent
-** rays 0.149 -> 0.129 s, shadow rays 0.104 -> 0.092 s. */
 /* A group of n faces (refs[0, n), corners f) tested as one batch against
 ** tmax, its nearest kept as closest_leaf keeps it (the lower id on a tie);
 ** returns tmax, shrunk if one was nearer. */
@@ -281,6 +275,12 @@ ALWAYS_INLINE double closest_group(closest *c, const uint32_t *refs, int n,
     return better ? next_up(c->best) : tmax;
 }
 
+/* A leaf of two or more flat triangles is tested four at a time against
+** the tmax each group of four begins with, its nearest kept as
+** closest_leaf keeps it (the lower id on a tie); with or without SIMD the
+** same batches. Any other leaf: closest_leaf on each, in order. A batch
+** has no early outs per face to mispredict: lc-raycast b3 707, incoherent
+** rays 0.149 -> 0.129 s, shadow rays 0.104 -> 0.092 s. */
 ALWAYS_INLINE double closest_run(void *ctx, uint32_t at, uint32_t count, double tmax,
                                  int simd)
 {
@@ -319,8 +319,8 @@ BVH_DISPATCH(uint64_t, closest_walk,
 
 /* A closest-hit search begun: the query made and the planes tested, which
 ** bound tmax (returned). */
-ALWAYS_INLINE double closest_begin(const lc_scene *s, const ray *r, double tmax, hit *h, hit *tmp,
-                            query *q, closest *c, bvh_counts *counts)
+ALWAYS_INLINE double closest_begin(const lc_scene *s, const ray *r, double tmax, hit *h,
+                                   hit *tmp, query *q, closest *c, bvh_counts *counts)
 {
     query_init(q, r, s->c.nflat > 0);
     const plane_geom *planes = PLANES(s);
@@ -534,10 +534,8 @@ void intersect_closest_n(const lc_scene *s, const ray *r, const double *tmax, in
     int together = 1;
     for (int i = 0; i < n; i++) {
         tm[i] = closest_begin(s, &r[i], tmax[i], &h[i], &tmp[i], &q[i], &c[i], &spare);
-        if (i == 0)
-            bvh_packet_start(&k.p, &q[0].b);
-        else
-            together &= bvh_packet_add(&k.p, &q[i].b);
+        together &= i == 0 ? bvh_packet_start(&k.p, &q[0].b)
+                           : bvh_packet_add(&k.p, &q[i].b);
     }
     if (!together)
         for (int i = 0; i < n; i++)
@@ -758,10 +756,8 @@ void intersect_occluded_n(const lc_scene *s, const ray *r, const double *tmax, i
         if (blocked[i])
             continue;
         k.live |= 1u << i;
-        if (first)
-            bvh_packet_start(&k.p, &q[i].b);
-        else
-            together &= bvh_packet_add(&k.p, &q[i].b);
+        together &= first ? bvh_packet_start(&k.p, &q[i].b)
+                          : bvh_packet_add(&k.p, &q[i].b);
         first = 0;
     }
     if (!k.live)

@@ -851,8 +851,7 @@ static int walks_together(const ray *r, int n)
     bvh_packet p;
     for (int i = 0; i < n; i++)
         bvh_ray_init(&q[i], r[i].o, r[i].d);
-    bvh_packet_start(&p, &q[0]);
-    int ok = n >= 2;
+    int ok = n >= 2 && bvh_packet_start(&p, &q[0]);
     for (int i = 1; i < n; i++)
         ok &= bvh_packet_add(&p, &q[i]);
     return ok;
