@@ -1,0 +1,13 @@
+/* plan.h: the render layer: the effects a frame needs, why, and each
+** material's shading plan. */
+#ifndef LC_PLAN_H
+#define LC_PLAN_H
+
+#include "scene.h"
+
+/* Decides, for a render of s with options o (NULL: the defaults), s->c's
+** needs (LC_NEED_*), their whys, depth, sky_uv, sky_lights and per-material
+** plan (PLAN_*). Out of memory, the rest of s->c stays as it was. */
+lc_status plan_frame(lc_scene *s, const lc_render_options *o, lc_error *err);
+
+#endif
