@@ -2,18 +2,15 @@
 ** primitive (moved meshes as one primitive each), the triangle list, and the
 ** plan of the effects the frame calls for (plan.c). */
 #include <stdlib.h>
-#include <stdio.h>
 #include <string.h>
 #include "error.h"
 #include "scene.h"
 #include "clock.h"
-#include "camera.h"
 #include "interrupt.h"
 #include "mem.h"
 #include "pair.h"
 #include "plan.h"
 #include "sky.h"
-#include "texture.h"
 
 void compile_free(compiled *c)
 {

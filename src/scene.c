@@ -400,9 +400,166 @@ size_t lc_scene_light_count(const lc_scene *s)
     return s->nlights + s->nspots + s->nsuns;
 }
 
-static lc_vec3 move(lc_vec3 p, double s, lc_vec3 t)
+/* Scaling by `scale` about the origin, then moving by `t`. */
+typedef struct { double scale; lc_vec3 t; } placing;
+
+static lc_vec3 move(lc_vec3 p, const placing *pl)
 {
-    return v3(p.x * s + t.x, p.y * s + t.y, p.z * s + t.z);
+    double s = pl->scale;
+    return v3(p.x * s + pl->t.x, p.y * s + pl->t.y, p.z * s + pl->t.z);
+}
+
+/* The same as a transform, to compose with an object's own. */
+static lc_transform placing_transform(const placing *pl)
+{
+    lc_transform st = lc_transform_scale(v3(pl->scale, pl->scale, pl->scale));
+    lc_transform mv = lc_transform_translate(pl->t);
+    return lc_transform_compose(&mv, &st);
+}
+
+/* Settings, camera, textures and materials: what the objects refer to. */
+static lc_status copy_looks(lc_scene *c, const lc_scene *s, const placing *pl, lc_error *err)
+{
+    c->settings = s->settings;
+    if (s->has_camera) {
+        lc_camera cam = s->camera;
+        cam.from = move(cam.from, pl);
+        cam.at = move(cam.at, pl);
+        cam.aperture *= pl->scale;      /* lengths, like the scene's */
+        cam.focus *= pl->scale;
+        if (lc_scene_set_camera(c, &cam, err))
+            return LC_EARG;
+    }
+    if (s->textures && !(c->textures = textures_transformed(s->textures, pl->scale, pl->t,
+                                                             s->settings.background_texture,
+                                                             err)))
+        return LC_EARG;
+    for (size_t i = 0; i < s->nmaterials; i++) {
+        lc_material m = s->materials[i];
+        /* Per unit length: the same e^(-absorption d) over lengths d * scale. */
+        m.absorption = v3_mul(m.absorption, 1 / pl->scale);
+        if (lc_scene_add_material(c, &m, err) < 0)
+            return LC_EARG;
+    }
+    return LC_OK;
+}
+
+static lc_status copy_shapes(lc_scene *c, const lc_scene *s, const placing *pl, lc_error *err)
+{
+    for (int k = 0; k < LC_SHAPE_KINDS; k++) {
+        const shape_list *l = &s->shapes[k];
+        for (size_t i = 0; i < l->n; i++) {
+            lc_shape sh;
+            memset(&sh, 0, sizeof sh);
+            shape_describe((lc_shape_kind)k, shape_at(l, i), &sh);
+            shape_scale(&sh, pl->scale, pl->t);
+            if (lc_scene_add_shape(c, &sh, l->material[i], err) < 0)
+                return LC_EARG;
+        }
+    }
+    return LC_OK;
+}
+
+/* Adds mesh m as mp is added (its materials, xf moved or none); -1 if not. */
+static int add_mesh_as(lc_scene *c, lc_mesh *m, const lc_transform *xf, const mesh_prim *mp,
+                       lc_error *err)
+{
+    if (mp->palette)
+        return lc_scene_add_mesh_materials(c, m, xf, mp->palette, mp->npalette, err);
+    return xf ? lc_scene_add_mesh_moved(c, m, xf, mp->material, err)
+              : lc_scene_add_mesh(c, m, mp->material, err);
+}
+
+/* A flat mesh is copied with its vertices moved. */
+static lc_status copy_flat_mesh(lc_scene *c, const mesh_prim *mp, const placing *pl,
+                                lc_error *err)
+{
+    const lc_mesh *src = mp->mesh;
+    lc_mesh *m = lc_mesh_new(err);
+    lc_status st = m ? LC_OK : LC_ENOMEM;
+    for (size_t k = 0; st == LC_OK && k < src->nv; k++) {
+        lc_vec3 p = move(v3(src->v[3 * k], src->v[3 * k + 1], src->v[3 * k + 2]), pl);
+        double xyz[3] = {p.x, p.y, p.z};
+        st = lc_mesh_add_vertices(m, xyz, 1, err);
+    }
+    if (st == LC_OK && src->nn)
+        st = lc_mesh_add_normals(m, src->n, src->nn, err);
+    if (st == LC_OK && src->nuv)
+        st = lc_mesh_add_uvs(m, src->uv, src->nuv, err);
+    if (st == LC_OK)
+        st = lc_mesh_add_faces(m, src->f, src->nf, err);
+    if (st == LC_OK && src->nslot)
+        st = lc_mesh_add_face_materials(m, src->slot, src->nslot, err);
+    if (st == LC_OK && add_mesh_as(c, m, NULL, mp, err) < 0)
+        st = LC_EARG;
+    lc_mesh_free(m);
+    return st;
+}
+
+static lc_status copy_meshes(lc_scene *c, const lc_scene *s, const placing *pl, lc_error *err)
+{
+    for (size_t i = 0; i < s->nmeshes; i++) {
+        const mesh_prim *mp = &s->meshes[i];
+        if (mp->xf) {          /* an instance stays one, of the same mesh */
+            lc_transform st = placing_transform(pl);
+            st = lc_transform_compose(&st, &mp->xf->xf);
+            if (add_mesh_as(c, mp->mesh, &st, mp, err) < 0)
+                return LC_EARG;
+        } else if (copy_flat_mesh(c, mp, pl, err)) {
+            return LC_EARG;
+        }
+    }
+    return LC_OK;
+}
+
+static lc_status copy_csgs(lc_scene *c, const lc_scene *s, const placing *pl, lc_error *err)
+{
+    for (size_t i = 0; i < s->ncsgs; i++) {
+        const csg_tree *tr = s->csgs[i];
+        lc_csg_node *d = mem_alloc(tr->n * sizeof *d);
+        if (!d)
+            return error_fail(err, LC_ENOMEM, NULL, "out of memory copying a CSG object");
+        memcpy(d, tr->desc, tr->n * sizeof *d);
+        for (size_t k = 0; k < tr->n; k++) {
+            if (d[k].op == LC_CSG_SHAPE) {
+                shape_scale(&d[k].shape, pl->scale, pl->t);
+            } else if (d[k].op == LC_CSG_MESH) {
+                lc_transform st = placing_transform(pl);
+                d[k].transform = lc_transform_compose(&st, &d[k].transform);
+            }
+        }
+        int id = lc_scene_add_csg(c, d, tr->n, err);
+        mem_free(d);
+        if (id < 0)
+            return LC_EARG;
+    }
+    return LC_OK;
+}
+
+/* Point and spot lights falling off as 1/d^2 get intensity * s^2. */
+static lc_status copy_lights(lc_scene *c, const lc_scene *s, const placing *pl, lc_error *err)
+{
+    double s2 = pl->scale * pl->scale;
+    for (size_t i = 0; i < s->nlights; i++) {
+        lc_point_light l = s->lights[i];
+        l.position = move(l.position, pl);
+        if (l.falloff == LC_FALLOFF_INVERSE_SQUARE)
+            l.intensity *= s2;
+        if (lc_scene_add_light(c, &l, err) < 0)
+            return LC_EARG;
+    }
+    for (size_t i = 0; i < s->nspots; i++) {
+        lc_spot_light l = s->spots[i].d;
+        l.position = move(l.position, pl);
+        if (l.falloff == LC_FALLOFF_INVERSE_SQUARE)
+            l.intensity *= s2;
+        if (lc_scene_add_spot_light(c, &l, err) < 0)
+            return LC_EARG;
+    }
+    for (size_t i = 0; i < s->nsuns; i++)      /* directions: neither scaled nor moved */
+        if (lc_scene_add_directional_light(c, &s->suns[i].d, err) < 0)
+            return LC_EARG;
+    return LC_OK;
 }
 
 /* A copy of the scene scaled by s about the origin, then moved by t: every
@@ -418,122 +575,12 @@ lc_scene *lc_scene_transformed(const lc_scene *s, double scale, lc_vec3 t, lc_er
     lc_scene *c = lc_scene_new(err);
     if (!c)
         return NULL;
-    c->settings = s->settings;
-    if (s->has_camera) {
-        lc_camera cam = s->camera;
-        cam.from = move(cam.from, scale, t);
-        cam.at = move(cam.at, scale, t);
-        cam.aperture *= scale;      /* lengths, like the scene's */
-        cam.focus *= scale;
-        if (lc_scene_set_camera(c, &cam, err))
-            goto fail;
+    const placing pl = {scale, t};
+    if (copy_looks(c, s, &pl, err) || copy_shapes(c, s, &pl, err) ||
+        copy_meshes(c, s, &pl, err) || copy_csgs(c, s, &pl, err) ||
+        copy_lights(c, s, &pl, err)) {
+        lc_scene_free(c);
+        return NULL;
     }
-    if (s->textures && !(c->textures = textures_transformed(s->textures, scale, t,
-                                                             s->settings.background_texture,
-                                                             err)))
-        goto fail;
-    for (size_t i = 0; i < s->nmaterials; i++) {
-        lc_material m = s->materials[i];
-        /* Per unit length: the same e^(-absorption d) over lengths d * scale. */
-        m.absorption = v3_mul(m.absorption, 1 / scale);
-        if (lc_scene_add_material(c, &m, err) < 0)
-            goto fail;
-    }
-    for (int k = 0; k < LC_SHAPE_KINDS; k++) {
-        const shape_list *l = &s->shapes[k];
-        for (size_t i = 0; i < l->n; i++) {
-            lc_shape sh;
-            memset(&sh, 0, sizeof sh);
-            shape_describe((lc_shape_kind)k, shape_at(l, i), &sh);
-            shape_scale(&sh, scale, t);
-            if (lc_scene_add_shape(c, &sh, l->material[i], err) < 0)
-                goto fail;
-        }
-    }
-    for (size_t i = 0; i < s->nmeshes; i++) {
-        const lc_mesh *src = s->meshes[i].mesh;
-        if (s->meshes[i].xf) {     /* an instance stays one, of the same mesh */
-            lc_transform st = lc_transform_scale(v3(scale, scale, scale));
-            lc_transform mv = lc_transform_translate(t);
-            st = lc_transform_compose(&mv, &st);
-            st = lc_transform_compose(&st, &s->meshes[i].xf->xf);
-            const mesh_prim *mp = &s->meshes[i];
-            if ((mp->palette ? lc_scene_add_mesh_materials(c, mp->mesh, &st, mp->palette,
-                                                           mp->npalette, err)
-                             : lc_scene_add_mesh_moved(c, mp->mesh, &st, mp->material,
-                                                       err)) < 0)
-                goto fail;
-            continue;
-        }
-        lc_mesh *m = lc_mesh_new(err);
-        lc_status st = m ? LC_OK : LC_ENOMEM;
-        for (size_t k = 0; st == LC_OK && k < src->nv; k++) {
-            lc_vec3 p = move(v3(src->v[3 * k], src->v[3 * k + 1], src->v[3 * k + 2]), scale, t);
-            double xyz[3] = {p.x, p.y, p.z};
-            st = lc_mesh_add_vertices(m, xyz, 1, err);
-        }
-        if (st == LC_OK && src->nn)
-            st = lc_mesh_add_normals(m, src->n, src->nn, err);
-        if (st == LC_OK && src->nuv)
-            st = lc_mesh_add_uvs(m, src->uv, src->nuv, err);
-        if (st == LC_OK)
-            st = lc_mesh_add_faces(m, src->f, src->nf, err);
-        if (st == LC_OK && src->nslot)
-            st = lc_mesh_add_face_materials(m, src->slot, src->nslot, err);
-        const mesh_prim *mp = &s->meshes[i];
-        if (st == LC_OK &&
-            (mp->palette ? lc_scene_add_mesh_materials(c, m, NULL, mp->palette, mp->npalette,
-                                                       err)
-                         : lc_scene_add_mesh(c, m, mp->material, err)) < 0)
-            st = LC_EARG;
-        lc_mesh_free(m);
-        if (st != LC_OK)
-            goto fail;
-    }
-    for (size_t i = 0; i < s->ncsgs; i++) {
-        const csg_tree *tr = s->csgs[i];
-        lc_csg_node *d = mem_alloc(tr->n * sizeof *d);
-        if (!d) {
-            error_fail(err, LC_ENOMEM, NULL, "out of memory copying a CSG object");
-            goto fail;
-        }
-        memcpy(d, tr->desc, tr->n * sizeof *d);
-        for (size_t k = 0; k < tr->n; k++) {
-            if (d[k].op == LC_CSG_SHAPE) {
-                shape_scale(&d[k].shape, scale, t);
-            } else if (d[k].op == LC_CSG_MESH) {
-                lc_transform st = lc_transform_scale(v3(scale, scale, scale));
-                lc_transform mv = lc_transform_translate(t);
-                st = lc_transform_compose(&mv, &st);
-                d[k].transform = lc_transform_compose(&st, &d[k].transform);
-            }
-        }
-        int id = lc_scene_add_csg(c, d, tr->n, err);
-        mem_free(d);
-        if (id < 0)
-            goto fail;
-    }
-    for (size_t i = 0; i < s->nlights; i++) {
-        lc_point_light l = s->lights[i];
-        l.position = move(l.position, scale, t);
-        if (l.falloff == LC_FALLOFF_INVERSE_SQUARE)
-            l.intensity *= scale * scale;
-        if (lc_scene_add_light(c, &l, err) < 0)
-            goto fail;
-    }
-    for (size_t i = 0; i < s->nspots; i++) {
-        lc_spot_light l = s->spots[i].d;
-        l.position = move(l.position, scale, t);
-        if (l.falloff == LC_FALLOFF_INVERSE_SQUARE)
-            l.intensity *= scale * scale;
-        if (lc_scene_add_spot_light(c, &l, err) < 0)
-            goto fail;
-    }
-    for (size_t i = 0; i < s->nsuns; i++)      /* directions: neither scaled nor moved */
-        if (lc_scene_add_directional_light(c, &s->suns[i].d, err) < 0)
-            goto fail;
     return c;
-fail:
-    lc_scene_free(c);
-    return NULL;
 }
