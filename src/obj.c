@@ -292,6 +292,200 @@ static lc_status materials_give(obj_materials *om, lc_mesh *m, lc_error *err)
     return LC_OK;
 }
 
+/* One OBJ file being read: what its lines gave so far. */
+typedef struct {
+    const char   *path;
+    size_t        lineno;
+    lc_error     *err;
+    dbuf          attr[3];     /* v, vt, vn */
+    lbuf          c;           /* triangle corners, 3 per triangle */
+    int           all[3];      /* every corner has a vt, a vn */
+    obj_materials om;
+} obj_reader;
+
+static lc_status out_of_memory(obj_reader *r)
+{
+    return error_fail(r->err, LC_ENOMEM, NULL, "out of memory reading '%s' at line %zu",
+                      r->path, r->lineno);
+}
+
+/* What read_line said, when it gave no line. */
+static lc_status line_failed(obj_reader *r, int got)
+{
+    if (got == LINE_NOMEM)
+        return out_of_memory(r);
+    if (got == LINE_ERROR)
+        return error_fail(r->err, LC_EIO, "path", "cannot read '%s' at line %zu: %s",
+                          r->path, r->lineno, strerror(errno));
+    return error_fail(r->err, LC_EARG, "path", "%s:%zu: %s: not an OBJ file", r->path,
+                      r->lineno, got == LINE_NUL ? "a NUL byte" : "a line longer than 1 MiB");
+}
+
+/* 0 v, 1 vt, 2 vn: the attribute line s gives; -1 none. */
+static int attribute_kind(const char *s)
+{
+    if (strncmp(s, "v ", 2) == 0 || strncmp(s, "v\t", 2) == 0)
+        return 0;
+    if (strncmp(s, "vt ", 3) == 0 || strncmp(s, "vt\t", 3) == 0)
+        return 1;
+    if (strncmp(s, "vn ", 3) == 0 || strncmp(s, "vn\t", 3) == 0)
+        return 2;
+    return -1;
+}
+
+/* Whether s is the keyword `key` followed by a blank (or, when bare is
+** set, by nothing). */
+static int keyword(const char *s, const char *key, int bare)
+{
+    size_t n = strlen(key);
+    return strncmp(s, key, n) == 0 &&
+           (s[n] == ' ' || s[n] == '\t' || (bare && s[n] == '\0'));
+}
+
+static lc_status read_attribute(obj_reader *r, char *s, int kind)
+{
+    static const char *const key[3] = {"v", "vt", "vn"};
+    double x[3];
+    int need = kind == 1 ? 2 : 3;
+    if (!numbers(s + (kind ? 2 : 1), x, need))
+        return error_fail(r->err, LC_EARG, NULL, "%s:%zu: '%s' needs %d finite numbers",
+                          r->path, r->lineno, key[kind], need);
+    if (kind == 0 && !(v3_max_abs(v3(x[0], x[1], x[2])) <= LC_MAX_COORD))
+        return error_fail(r->err, LC_EARG, NULL, "%s:%zu: 'v' must be within +-%g "
+                          "(lancer's coordinate range)", r->path, r->lineno, LC_MAX_COORD);
+    if (!dpush(&r->attr[kind], x))
+        return out_of_memory(r);
+    return LC_OK;
+}
+
+static lc_status read_usemtl(obj_reader *r, char *s)
+{
+    char *name = s + 6 + strspn(s + 6, " \t");
+    size_t n = strlen(name);
+    while (n > 0 && (name[n - 1] == ' ' || name[n - 1] == '\t'))
+        name[--n] = '\0';
+    r->om.used = 1;
+    if (n == 0)
+        return error_fail(r->err, LC_EARG, NULL, "%s:%zu: 'usemtl' needs a material name",
+                          r->path, r->lineno);
+    if ((r->om.current = slot_of(&r->om, name)) < 0)
+        return error_fail(r->err, LC_ENOMEM, NULL, "%s:%zu: out of memory, or more than "
+                          "%d materials", r->path, r->lineno, LC_MAX_SLOTS);
+    return LC_OK;
+}
+
+static lc_status read_mtllib(obj_reader *r, char *s)
+{
+    obj_materials *om = &r->om;
+    char *save = NULL;
+    for (char *f = strtok_r(s + 6, " \t", &save); f; f = strtok_r(NULL, " \t", &save)) {
+        char *lib = grow((void **)&om->lib, &om->caplib, om->nlib, sizeof *om->lib) ?
+                    beside(r->path, f, strlen(f)) : NULL;
+        if (!lib)
+            return out_of_memory(r);
+        om->lib[om->nlib++] = lib;
+    }
+    return LC_OK;
+}
+
+/* A face of k corners is the fan of triangles (first, prev, cur), each
+** taking the slot of the current material. */
+static lc_status read_face(obj_reader *r, char *s)
+{
+    obj_materials *om = &r->om;
+    if (om->current < 0 && (om->current = slot_of(om, NULL)) < 0)
+        return out_of_memory(r);
+    const size_t count[3] = {r->attr[0].n, r->attr[1].n, r->attr[2].n};
+    long first[3] = {0, 0, 0}, prev[3] = {0, 0, 0};
+    int k = 0;
+    char *save = NULL;
+    for (char *tok = strtok_r(s + 1, " \t", &save); tok;
+         tok = strtok_r(NULL, " \t", &save), k++) {
+        long cur[3];
+        const char *why = NULL;
+        if (!corner(tok, count, cur, &why))
+            return error_fail(r->err, LC_EARG, NULL, "%s:%zu: %s ('%s')", r->path,
+                              r->lineno, why, tok);
+        r->all[1] &= cur[1] >= 0;
+        r->all[2] &= cur[2] >= 0;
+        if (k == 0)
+            memcpy(first, cur, sizeof cur);
+        if (k >= 2) {
+            if (!lpush(&r->c, first) || !lpush(&r->c, prev) || !lpush(&r->c, cur) ||
+                !grow((void **)&om->tri, &om->captri, om->ntri, sizeof *om->tri))
+                return out_of_memory(r);
+            om->tri[om->ntri++] = (uint32_t)om->current;
+        }
+        memcpy(prev, cur, sizeof cur);
+    }
+    if (k < 3)
+        return error_fail(r->err, LC_EARG, NULL, "%s:%zu: a face needs at least 3 "
+                          "vertices, got %d", r->path, r->lineno, k);
+    return LC_OK;
+}
+
+/* One line, its comment and trailing newline dropped. Anything but v, vt,
+** vn, usemtl, mtllib and f (o, g, s, l, ...) is skipped. */
+static lc_status read_obj_line(obj_reader *r, char *line)
+{
+    char *s = line + strspn(line, " \t");
+    s[strcspn(s, "\r\n#")] = '\0';
+    int kind = attribute_kind(s);
+    if (kind >= 0)
+        return read_attribute(r, s, kind);
+    if (keyword(s, "usemtl", 1))
+        return read_usemtl(r, s);
+    if (keyword(s, "mtllib", 0))
+        return read_mtllib(r, s);
+    if (keyword(s, "f", 0))
+        return read_face(r, s);
+    return LC_OK;
+}
+
+static lc_status read_obj(obj_reader *r, FILE *fp)
+{
+    char *line = NULL;
+    size_t cap = 0;
+    lc_status st = LC_OK;
+    int got;
+    while (st == LC_OK && (got = read_line(fp, &line, &cap)) != LINE_EOF) {
+        r->lineno++;
+        st = got == LINE_OK ? read_obj_line(r, line) : line_failed(r, got);
+    }
+    mem_free(line);
+    if (st == LC_OK && (r->attr[0].n == 0 || r->c.n == 0))
+        st = error_fail(r->err, LC_EARG, "path", "'%s' has no %s: not an OBJ file, or an "
+                        "empty one", r->path, r->attr[0].n == 0 ? "vertices ('v' lines)" :
+                        "faces ('f' lines)");
+    return st;
+}
+
+/* The mesh of what was read: its vertices shared by every corner, unless
+** every corner has a texture coordinate or a normal (with_attributes). */
+static lc_status fill_mesh(obj_reader *r, lc_mesh *m)
+{
+    const lbuf *c = &r->c;
+    int use[3] = {1, r->all[1] && r->attr[1].n > 0, r->all[2] && r->attr[2].n > 0};
+    lc_status st = LC_OK;
+    if (use[1] || use[2]) {
+        st = with_attributes(m, &r->attr[0], &r->attr[1], &r->attr[2], c, use, r->err);
+    } else {
+        uint32_t *tri = mem_alloc((c->n + 1) * sizeof *tri);
+        if (!tri)
+            return error_fail(r->err, LC_ENOMEM, NULL, "out of memory reading '%s'",
+                              r->path);
+        for (size_t i = 0; i < c->n; i++)
+            tri[i] = (uint32_t)c->a[3 * i];
+        st = lc_mesh_add_vertices(m, r->attr[0].a, r->attr[0].n, r->err);
+        if (st == LC_OK)
+            st = lc_mesh_add_faces(m, tri, c->n / 3, r->err);
+        mem_free(tri);
+    }
+    if (st == LC_OK)
+        st = materials_give(&r->om, m, r->err);
+    return st;
+}
+
 lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
 {
     FILE *fp = fopen(path, "r");
@@ -299,145 +493,23 @@ lc_mesh *lc_mesh_load_obj(const char *path, lc_error *err)
         error_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
         return NULL;
     }
-    dbuf attr[3] = {{0}, {0}, {0}};     /* v, vt, vn */
-    lbuf c = {0};                       /* triangle corners, 3 per triangle */
-    int all[3] = {1, 1, 1};             /* every corner has a vt, a vn */
-    char *line = NULL;
-    size_t cap = 0, lineno = 0;
-    lc_status st = LC_OK;
-    lc_mesh *m = NULL;
-    obj_materials om;
-    memset(&om, 0, sizeof om);
-    om.current = -1;
-    int got;
-    while (st == LC_OK && (got = read_line(fp, &line, &cap)) != LINE_EOF) {
-        lineno++;
-        if (got != LINE_OK) {
-            if (got == LINE_NOMEM)
-                st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at line "
-                                "%zu", path, lineno);
-            else if (got == LINE_ERROR)
-                st = error_fail(err, LC_EIO, "path", "cannot read '%s' at line %zu: %s",
-                                path, lineno, strerror(errno));
-            else
-                st = error_fail(err, LC_EARG, "path", "%s:%zu: %s: not an OBJ file", path,
-                                lineno, got == LINE_NUL ? "a NUL byte" :
-                                "a line longer than 1 MiB");
-            break;
-        }
-        char *s = line + strspn(line, " \t");
-        s[strcspn(s, "\r\n#")] = '\0';
-        int kind = -1;                  /* 0 v, 1 vt, 2 vn */
-        if (strncmp(s, "v ", 2) == 0 || strncmp(s, "v\t", 2) == 0)
-            kind = 0;
-        else if (strncmp(s, "vt ", 3) == 0 || strncmp(s, "vt\t", 3) == 0)
-            kind = 1;
-        else if (strncmp(s, "vn ", 3) == 0 || strncmp(s, "vn\t", 3) == 0)
-            kind = 2;
-        if (kind >= 0) {
-            static const char *const key[3] = {"v", "vt", "vn"};
-            double x[3];
-            int need = kind == 1 ? 2 : 3;
-            if (!numbers(s + (kind ? 2 : 1), x, need))
-                st = error_fail(err, LC_EARG, NULL, "%s:%zu: '%s' needs %d finite numbers",
-                                path, lineno, key[kind], need);
-            else if (kind == 0 && !(v3_max_abs(v3(x[0], x[1], x[2])) <= LC_MAX_COORD))
-                st = error_fail(err, LC_EARG, NULL, "%s:%zu: 'v' must be within +-%g "
-                                "(lancer's coordinate range)", path, lineno, LC_MAX_COORD);
-            else if (!dpush(&attr[kind], x))
-                st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at line "
-                                "%zu", path, lineno);
-        } else if (strncmp(s, "usemtl", 6) == 0 && (s[6] == ' ' || s[6] == '\t' ||
-                                                    s[6] == '\0')) {
-            char *name = s + 6 + strspn(s + 6, " \t");
-            size_t n = strlen(name);
-            while (n > 0 && (name[n - 1] == ' ' || name[n - 1] == '\t'))
-                name[--n] = '\0';
-            if (n == 0)
-                st = error_fail(err, LC_EARG, NULL, "%s:%zu: 'usemtl' needs a material name",
-                                path, lineno);
-            else if ((om.current = slot_of(&om, name)) < 0)
-                st = error_fail(err, LC_ENOMEM, NULL, "%s:%zu: out of memory, or more than "
-                                "%d materials", path, lineno, LC_MAX_SLOTS);
-            om.used = 1;
-        } else if (strncmp(s, "mtllib", 6) == 0 && (s[6] == ' ' || s[6] == '\t')) {
-            char *save = NULL;
-            for (char *f = strtok_r(s + 6, " \t", &save); f && st == LC_OK;
-                 f = strtok_r(NULL, " \t", &save)) {
-                char *lib = grow((void **)&om.lib, &om.caplib, om.nlib, sizeof *om.lib) ?
-                            beside(path, f, strlen(f)) : NULL;
-                if (!lib)
-                    st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at "
-                                    "line %zu", path, lineno);
-                else
-                    om.lib[om.nlib++] = lib;
-            }
-        } else if (strncmp(s, "f ", 2) == 0 || strncmp(s, "f\t", 2) == 0) {
-            if (om.current < 0 && (om.current = slot_of(&om, NULL)) < 0)
-                st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at line "
-                                "%zu", path, lineno);
-            const size_t count[3] = {attr[0].n, attr[1].n, attr[2].n};
-            long first[3] = {0, 0, 0}, prev[3] = {0, 0, 0};
-            int k = 0;
-            char *save = NULL;
-            for (char *tok = strtok_r(s + 1, " \t", &save); tok && st == LC_OK;
-                 tok = strtok_r(NULL, " \t", &save), k++) {
-                long cur[3];
-                const char *why = NULL;
-                if (!corner(tok, count, cur, &why)) {
-                    st = error_fail(err, LC_EARG, NULL, "%s:%zu: %s ('%s')", path, lineno,
-                                    why, tok);
-                    break;
-                }
-                all[1] &= cur[1] >= 0;
-                all[2] &= cur[2] >= 0;
-                if (k == 0)
-                    memcpy(first, cur, sizeof cur);
-                if (k >= 2 && (!lpush(&c, first) || !lpush(&c, prev) || !lpush(&c, cur) ||
-                               !grow((void **)&om.tri, &om.captri, om.ntri, sizeof *om.tri)))
-                    st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s' at "
-                                    "line %zu", path, lineno);
-                else if (k >= 2)
-                    om.tri[om.ntri++] = (uint32_t)om.current;
-                memcpy(prev, cur, sizeof cur);
-            }
-            if (st == LC_OK && k < 3)
-                st = error_fail(err, LC_EARG, NULL, "%s:%zu: a face needs at least 3 "
-                                "vertices, got %d", path, lineno, k);
-        }
-        /* Anything else (o, g, s, l, ...) is skipped. */
-    }
-    mem_free(line);
-    if (st == LC_OK && (attr[0].n == 0 || c.n == 0))
-        st = error_fail(err, LC_EARG, "path", "'%s' has no %s: not an OBJ file, or an empty "
-                        "one", path, attr[0].n == 0 ? "vertices ('v' lines)" :
-                        "faces ('f' lines)");
+    obj_reader r;
+    memset(&r, 0, sizeof r);
+    r.path = path;
+    r.err = err;
+    r.all[0] = r.all[1] = r.all[2] = 1;
+    r.om.current = -1;
+    lc_status st = read_obj(&r, fp);
     fclose(fp);
+    lc_mesh *m = NULL;
     if (st == LC_OK && (m = lc_mesh_new(err)) == NULL)
         st = LC_ENOMEM;
-    int use[3] = {1, all[1] && attr[1].n > 0, all[2] && attr[2].n > 0};
-    if (st == LC_OK) {
-        if (use[1] || use[2]) {
-            st = with_attributes(m, &attr[0], &attr[1], &attr[2], &c, use, err);
-        } else {
-            uint32_t *tri = mem_alloc((c.n + 1) * sizeof *tri);
-            if (!tri)
-                st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
-            for (size_t i = 0; st == LC_OK && i < c.n; i++)
-                tri[i] = (uint32_t)c.a[3 * i];
-            if (st == LC_OK)
-                st = lc_mesh_add_vertices(m, attr[0].a, attr[0].n, err);
-            if (st == LC_OK)
-                st = lc_mesh_add_faces(m, tri, c.n / 3, err);
-            mem_free(tri);
-        }
-    }
     if (st == LC_OK)
-        st = materials_give(&om, m, err);
-    materials_free(&om);
+        st = fill_mesh(&r, m);
+    materials_free(&r.om);
     for (int k = 0; k < 3; k++)
-        mem_free(attr[k].a);
-    mem_free(c.a);
+        mem_free(r.attr[k].a);
+    mem_free(r.c.a);
     if (st != LC_OK) {
         lc_mesh_free(m);
         return NULL;
