@@ -37,14 +37,9 @@ lc_camera lc_camera_default(void)
     return c;
 }
 
-int validate_finite3(lc_vec3 v)
-{
-    return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
-}
-
 static lc_status check_finite(lc_vec3 v, const char *field, lc_error *err)
 {
-    if (!validate_finite3(v))
+    if (!isfinite(v.x) || !isfinite(v.y) || !isfinite(v.z))
         return error_fail(err, LC_EARG, field, "must be finite, got (%g, %g, %g)",
                        v.x, v.y, v.z);
     return LC_OK;

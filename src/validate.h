@@ -9,7 +9,6 @@
 ** vectors are normalised first, so the test does not depend on scale. */
 #define PARALLEL_SIN 1e-12
 
-int       validate_finite3(lc_vec3 v);
 /* Each returns LC_OK, or fills err naming the field and the value. */
 /* A point: finite, every coordinate within +-LC_MAX_COORD. */
 lc_status validate_vec(lc_vec3 v, const char *field, lc_error *err);
