@@ -79,6 +79,91 @@ static int map_of(const char *mtl, char *s, char out[LC_MTL_PATH], double *bm)
     return 1;
 }
 
+/* One .mtl file being read: the materials so far, the last the one its
+** statements set. */
+typedef struct {
+    const char *path;
+    size_t      lineno;
+    lc_error   *err;
+    lc_mtl     *list;      /* realloc'd: the caller free()s it */
+    size_t      n, cap;
+} mtl_reader;
+
+/* newmtl NAME: a material of the format's defaults, NAME its trailing
+** blanks dropped. */
+static lc_status read_newmtl(mtl_reader *r, char *name)
+{
+    if (*name == '\0' || strlen(name) >= sizeof r->list->name)
+        return error_fail(r->err, LC_EARG, NULL, "%s:%zu: 'newmtl' needs a name of under "
+                          "%zu bytes", r->path, r->lineno, sizeof r->list->name);
+    if (r->n >= MTL_MAX_MATERIALS)
+        return error_fail(r->err, LC_EARG, NULL, "%s:%zu: more than %d materials", r->path,
+                          r->lineno, MTL_MAX_MATERIALS);
+    if (r->n == r->cap) {
+        size_t nc = r->cap ? 2 * r->cap : 8;
+        lc_mtl *p = realloc(r->list, nc * sizeof *p);
+        if (!p)
+            return error_fail(r->err, LC_ENOMEM, NULL, "out of memory reading '%s'",
+                              r->path);
+        r->list = p;
+        r->cap = nc;
+    }
+    lc_mtl *m = &r->list[r->n++];
+    *m = mtl_default();
+    size_t l = strlen(name);
+    while (l > 0 && (name[l - 1] == ' ' || name[l - 1] == '\t'))
+        name[--l] = '\0';
+    memcpy(m->name, name, l + 1);
+    return LC_OK;
+}
+
+/* A statement `key rest` of material m; 0 when rest is not what key needs.
+** Keys lancer does not map are skipped. */
+static int read_statement(lc_mtl *m, const char *path, const char *key, char *rest)
+{
+    double x;
+    int ok = 1;
+    if (strcmp(key, "Kd") == 0) ok = color_of(rest, &m->kd);
+    else if (strcmp(key, "Ks") == 0) ok = color_of(rest, &m->ks);
+    else if (strcmp(key, "Ka") == 0) ok = color_of(rest, &m->ka);
+    else if (strcmp(key, "Ke") == 0) ok = color_of(rest, &m->ke);
+    else if (strcmp(key, "Ns") == 0) ok = number_of(rest, &m->ns);
+    else if (strcmp(key, "Ni") == 0) ok = number_of(rest, &m->ni);
+    else if (strcmp(key, "d") == 0) ok = number_of(rest, &m->d);
+    else if (strcmp(key, "Tr") == 0) { ok = number_of(rest, &x); m->d = 1 - x; }
+    else if (strcmp(key, "illum") == 0) { ok = number_of(rest, &x); m->illum = (int)x; }
+    else if (strcmp(key, "map_Kd") == 0) ok = map_of(path, rest, m->map_kd, NULL);
+    else if (strcmp(key, "map_Bump") == 0 || strcmp(key, "bump") == 0 ||
+             strcmp(key, "map_bump") == 0)
+        ok = map_of(path, rest, m->map_bump, &m->bump_mult);
+    else if (strcmp(key, "norm") == 0 || strcmp(key, "map_norm") == 0)
+        ok = map_of(path, rest, m->map_norm, NULL);
+    return ok;
+}
+
+/* One line, its comment and trailing newline dropped. */
+static lc_status read_mtl_line(mtl_reader *r, char *line)
+{
+    char *s = line + strspn(line, " \t");
+    s[strcspn(s, "\r\n#")] = '\0';
+    char *key = s, *rest = s + strcspn(s, " \t");
+    if (*rest)
+        *rest++ = '\0';
+    rest += strspn(rest, " \t");
+    if (*key == '\0')
+        return LC_OK;
+    if (strcmp(key, "newmtl") == 0)
+        return read_newmtl(r, rest);
+    if (r->n == 0)
+        return LC_OK;            /* statements before any newmtl belong to none */
+    if (!read_statement(&r->list[r->n - 1], r->path, key, rest))
+        return error_fail(r->err, LC_EARG, NULL, "%s:%zu: '%s' needs %s", r->path,
+                          r->lineno, key,
+                          strncmp(key, "map", 3) == 0 || strcmp(key, "bump") == 0 ||
+                          strcmp(key, "norm") == 0 ? "a file name" : "finite numbers");
+    return LC_OK;
+}
+
 lc_status lc_mtl_load(const char *path, lc_mtl **out, size_t *count, lc_error *err)
 {
     *out = NULL;
@@ -86,90 +171,27 @@ lc_status lc_mtl_load(const char *path, lc_mtl **out, size_t *count, lc_error *e
     FILE *fp = fopen(path, "r");
     if (!fp)
         return error_fail(err, LC_EIO, "path", "cannot open '%s': %s", path, strerror(errno));
-    lc_mtl *list = NULL;
-    size_t n = 0, cap = 0, lineno = 0;
+    mtl_reader r = {path, 0, err, NULL, 0, 0};
     char line[MTL_MAX_LINE];
     lc_status st = LC_OK;
     while (st == LC_OK && fgets(line, sizeof line, fp)) {
-        lineno++;
+        r.lineno++;
         size_t len = strlen(line);
-        if (len == sizeof line - 1 && line[len - 1] != '\n' && !feof(fp)) {
+        if (len == sizeof line - 1 && line[len - 1] != '\n' && !feof(fp))
             st = error_fail(err, LC_EARG, NULL, "%s:%zu: a line longer than %d bytes", path,
-                            lineno, MTL_MAX_LINE - 1);
-            break;
-        }
-        char *s = line + strspn(line, " \t");
-        s[strcspn(s, "\r\n#")] = '\0';
-        char *key = s, *rest = s + strcspn(s, " \t");
-        if (*rest)
-            *rest++ = '\0';
-        rest += strspn(rest, " \t");
-        if (*key == '\0')
-            continue;
-        if (strcmp(key, "newmtl") == 0) {
-            if (*rest == '\0' || strlen(rest) >= sizeof list->name) {
-                st = error_fail(err, LC_EARG, NULL, "%s:%zu: 'newmtl' needs a name of under "
-                                "%zu bytes", path, lineno, sizeof list->name);
-                break;
-            }
-            if (n >= MTL_MAX_MATERIALS) {
-                st = error_fail(err, LC_EARG, NULL, "%s:%zu: more than %d materials", path,
-                                lineno, MTL_MAX_MATERIALS);
-                break;
-            }
-            if (n == cap) {
-                size_t nc = cap ? 2 * cap : 8;
-                lc_mtl *p = realloc(list, nc * sizeof *p);  /* the caller free()s it */
-                if (!p) {
-                    st = error_fail(err, LC_ENOMEM, NULL, "out of memory reading '%s'", path);
-                    break;
-                }
-                list = p;
-                cap = nc;
-            }
-            list[n] = mtl_default();
-            size_t l = strlen(rest);
-            while (l > 0 && (rest[l - 1] == ' ' || rest[l - 1] == '\t'))
-                rest[--l] = '\0';
-            memcpy(list[n].name, rest, l + 1);
-            n++;
-            continue;
-        }
-        if (n == 0)
-            continue;            /* statements before any newmtl belong to none */
-        lc_mtl *m = &list[n - 1];
-        int ok = 1;
-        double x;
-        if (strcmp(key, "Kd") == 0) ok = color_of(rest, &m->kd);
-        else if (strcmp(key, "Ks") == 0) ok = color_of(rest, &m->ks);
-        else if (strcmp(key, "Ka") == 0) ok = color_of(rest, &m->ka);
-        else if (strcmp(key, "Ke") == 0) ok = color_of(rest, &m->ke);
-        else if (strcmp(key, "Ns") == 0) ok = number_of(rest, &m->ns);
-        else if (strcmp(key, "Ni") == 0) ok = number_of(rest, &m->ni);
-        else if (strcmp(key, "d") == 0) ok = number_of(rest, &m->d);
-        else if (strcmp(key, "Tr") == 0) { ok = number_of(rest, &x); m->d = 1 - x; }
-        else if (strcmp(key, "illum") == 0) { ok = number_of(rest, &x); m->illum = (int)x; }
-        else if (strcmp(key, "map_Kd") == 0) ok = map_of(path, rest, m->map_kd, NULL);
-        else if (strcmp(key, "map_Bump") == 0 || strcmp(key, "bump") == 0 ||
-                 strcmp(key, "map_bump") == 0)
-            ok = map_of(path, rest, m->map_bump, &m->bump_mult);
-        else if (strcmp(key, "norm") == 0 || strcmp(key, "map_norm") == 0)
-            ok = map_of(path, rest, m->map_norm, NULL);
-        if (!ok)
-            st = error_fail(err, LC_EARG, NULL, "%s:%zu: '%s' needs %s", path, lineno, key,
-                            strncmp(key, "map", 3) == 0 || strcmp(key, "bump") == 0 ||
-                            strcmp(key, "norm") == 0 ?
-                            "a file name" : "finite numbers");
+                            r.lineno, MTL_MAX_LINE - 1);
+        else
+            st = read_mtl_line(&r, line);
     }
     if (st == LC_OK && ferror(fp))
         st = error_fail(err, LC_EIO, "path", "cannot read '%s': %s", path, strerror(errno));
     fclose(fp);
     if (st != LC_OK) {
-        free(list);
+        free(r.list);
         return st;
     }
-    *out = list;
-    *count = n;
+    *out = r.list;
+    *count = r.n;
     error_ok(err);
     return LC_OK;
 }
