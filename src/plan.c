@@ -112,7 +112,8 @@ static void count_materials(frame *f, const uint16_t *used)
     }
 }
 
-static frame frame_of(const lc_scene *s, const lc_render_options *o, const uint16_t *used)
+static frame frame_of(const lc_scene *s, const lc_render_options *o,
+                      const uint16_t *used)
 {
     frame f;
     memset(&f, 0, sizeof f);
@@ -173,11 +174,12 @@ static int need_emitter(const frame *f, char *why)
     int on = !f->area && lights_lit(f, s->nemitters);
     if (on)
         say(why, "%zu emissive shape%s light %zu material%s with kd or ks > 0, "
-            "toward their centres (light_samples = 0)", s->nemitters, plural(s->nemitters),
-            f->lit.count, plural(f->lit.count));
+            "toward their centres (light_samples = 0)", s->nemitters,
+            plural(s->nemitters), f->lit.count, plural(f->lit.count));
     else
-        say(why, !s->nemitters ? "no emissive shape" : !f->lit.count ?
-            "no material in use has kd or ks > 0" : "emitters are sampled as area lights");
+        say(why, !s->nemitters ? "no emissive shape" :
+            !f->lit.count ? "no material in use has kd or ks > 0" :
+            "emitters are sampled as area lights");
     return on;
 }
 
@@ -206,7 +208,8 @@ static int need_reflect(const frame *f, char *why)
     int on = o->reflections && f->depth > 0 && (f->refl.count || o->generic);
     if (on)
         say(why, "%zu material%s in use with %s > 0 (first: #%zu), max_depth %d",
-            f->refl.count, plural(f->refl.count), reflectors(f), f->refl.first, f->depth);
+            f->refl.count, plural(f->refl.count), reflectors(f), f->refl.first,
+            f->depth);
     else
         say(why, !o->reflections ? "switched off (reflections = false)" :
             !f->refl.count && !f->gloss.count ? "no material in use has kr > 0" :
@@ -241,7 +244,8 @@ static int need_glossy(const frame *f, char *why)
     if (on)
         say(why, "%zu material%s in use with %s > 0 and a cone (first: #%zu), %s",
             f->gloss.count, plural(f->gloss.count), reflectors(f), f->gloss.first,
-            o->cone_samples ? "cone_samples set by the render" : "each its cone_samples");
+            o->cone_samples ? "cone_samples set by the render"
+                            : "each its cone_samples");
     else
         say(why, !o->glossy ? "switched off (glossy = false): cones are mirrors" :
             !o->reflections ? "switched off (reflections = false)" : !f->gloss.count ?
@@ -301,7 +305,8 @@ static int need_filter(const frame *f, char *why)
     else if (on)
         say(why, "generic: every shadow ray walks its hits");
     else
-        say(why, !f->filt.count ? "no material in use has kt > 0 and shadow = 'filtered'" :
+        say(why, !f->filt.count ?
+            "no material in use has kt > 0 and shadow = 'filtered'" :
             !o->shadows ? "shadows off: no shadow rays" : !f->lights ? "no light" :
             "no material in use has kd or ks > 0");
     return on;
@@ -336,11 +341,12 @@ static int need_sun(const frame *f, char *why)
     const lc_scene *s = f->s;
     int on = lights_lit(f, s->nsuns);
     if (on)
-        say(why, "%zu directional light%s; %zu of %zu materials in use have kd or ks > 0 "
-            "(first: #%zu)", s->nsuns, plural(s->nsuns), f->lit.count, f->inuse.count,
-            f->lit.first);
+        say(why, "%zu directional light%s; %zu of %zu materials in use have kd or ks "
+            "> 0 (first: #%zu)", s->nsuns, plural(s->nsuns), f->lit.count,
+            f->inuse.count, f->lit.first);
     else
-        say(why, s->nsuns ? "no material in use has kd or ks > 0" : "no directional light");
+        say(why, s->nsuns ? "no material in use has kd or ks > 0"
+                          : "no directional light");
     return on;
 }
 
@@ -357,7 +363,8 @@ static int need_indirect(const frame *f, char *why)
     const lc_render_options *o = f->o;
     int on = o->indirect > 0;
     if (on)
-        say(why, "indirect = %d: paths of up to %d bounce%s%s%s, lights sampled at each%s",
+        say(why, "indirect = %d: paths of up to %d bounce%s%s%s, lights sampled at "
+            "each%s",
             o->indirect, o->indirect, plural((size_t)o->indirect),
             f->sky_lights ? ", the sky a light" : "",
             o->roulette ? ", Russian roulette after 3" : "",
@@ -400,7 +407,8 @@ static const effect effects[] = {
 };
 
 /* Every LC_NEED_* has its row: the build fails when one is added without. */
-typedef char effects_cover_every_need[sizeof effects / sizeof *effects == LC_NEEDS ? 1 : -1];
+typedef char effects_cover_every_need[sizeof effects / sizeof *effects == LC_NEEDS
+                                      ? 1 : -1];
 
 static int need_index(unsigned need)
 {

@@ -418,7 +418,8 @@ static lc_transform placing_transform(const placing *pl)
 }
 
 /* Settings, camera, textures and materials: what the objects refer to. */
-static lc_status copy_looks(lc_scene *c, const lc_scene *s, const placing *pl, lc_error *err)
+static lc_status copy_looks(lc_scene *c, const lc_scene *s, const placing *pl,
+                            lc_error *err)
 {
     c->settings = s->settings;
     if (s->has_camera) {
@@ -444,7 +445,8 @@ static lc_status copy_looks(lc_scene *c, const lc_scene *s, const placing *pl, l
     return LC_OK;
 }
 
-static lc_status copy_shapes(lc_scene *c, const lc_scene *s, const placing *pl, lc_error *err)
+static lc_status copy_shapes(lc_scene *c, const lc_scene *s, const placing *pl,
+                             lc_error *err)
 {
     for (int k = 0; k < LC_SHAPE_KINDS; k++) {
         const shape_list *l = &s->shapes[k];
@@ -461,8 +463,8 @@ static lc_status copy_shapes(lc_scene *c, const lc_scene *s, const placing *pl, 
 }
 
 /* Adds mesh m as mp is added (its materials, xf moved or none); -1 if not. */
-static int add_mesh_as(lc_scene *c, lc_mesh *m, const lc_transform *xf, const mesh_prim *mp,
-                       lc_error *err)
+static int add_mesh_as(lc_scene *c, lc_mesh *m, const lc_transform *xf,
+                       const mesh_prim *mp, lc_error *err)
 {
     if (mp->palette)
         return lc_scene_add_mesh_materials(c, m, xf, mp->palette, mp->npalette, err);
@@ -496,7 +498,8 @@ static lc_status copy_flat_mesh(lc_scene *c, const mesh_prim *mp, const placing 
     return st;
 }
 
-static lc_status copy_meshes(lc_scene *c, const lc_scene *s, const placing *pl, lc_error *err)
+static lc_status copy_meshes(lc_scene *c, const lc_scene *s, const placing *pl,
+                             lc_error *err)
 {
     for (size_t i = 0; i < s->nmeshes; i++) {
         const mesh_prim *mp = &s->meshes[i];
@@ -512,7 +515,8 @@ static lc_status copy_meshes(lc_scene *c, const lc_scene *s, const placing *pl, 
     return LC_OK;
 }
 
-static lc_status copy_csgs(lc_scene *c, const lc_scene *s, const placing *pl, lc_error *err)
+static lc_status copy_csgs(lc_scene *c, const lc_scene *s, const placing *pl,
+                           lc_error *err)
 {
     for (size_t i = 0; i < s->ncsgs; i++) {
         const csg_tree *tr = s->csgs[i];
@@ -537,7 +541,8 @@ static lc_status copy_csgs(lc_scene *c, const lc_scene *s, const placing *pl, lc
 }
 
 /* Point and spot lights falling off as 1/d^2 get intensity * s^2. */
-static lc_status copy_lights(lc_scene *c, const lc_scene *s, const placing *pl, lc_error *err)
+static lc_status copy_lights(lc_scene *c, const lc_scene *s, const placing *pl,
+                             lc_error *err)
 {
     double s2 = pl->scale * pl->scale;
     for (size_t i = 0; i < s->nlights; i++) {
