@@ -23,7 +23,7 @@ CPPFLAGS += -DLC_NAIVE
 endif
 ifeq ($(MINIMAL),1)
 # shade_minimal.c instead of shade.c: the diffuse path alone, for pricing
-# the full shading in make bench (NUMERICS.md S7); never for rendering.
+# the full shading in make bench (docs/numerics.md S7); never for rendering.
 BUILD   ?= build/minimal
 CPPFLAGS += -DLC_MINIMAL
 endif
@@ -47,7 +47,7 @@ PKGS    := lua5.4 libpng
 WARN    := -Wall -Wextra -Wshadow -Wundef -Wwrite-strings -Wstrict-prototypes \
            -Wmissing-prototypes -Wvla
 # -ffp-contract=off: a fused a*b-c*d breaks the exact sign symmetry the
-# robust geometry relies on (NUMERICS.md 1.12). Never -ffast-math.
+# robust geometry relies on (docs/numerics.md 1.12). Never -ffast-math.
 # -O3: 6-8 % fewer instructions than -O2 on B1, B2 and B3 (callgrind), the
 # same image bits on every scene tried and every test passing; the flags
 # below keep IEEE arithmetic (no fused multiply-add, no fast-math).
@@ -113,7 +113,7 @@ LUA_FILES := $(wildcard lua/lancer/*.lua)
 # looks under PREFIX, Lua's own layout: lua5.4.pc's INSTALL_CMOD is
 # /usr/lib/<multiarch>/lua/5.4, which a PREFIX of /usr/local does not reach,
 # and Debian's lua5.4 searches $(PREFIX)/lib/lua/5.4 and $(PREFIX)/share/lua/5.4
-# for both /usr/local and /usr (ECOSYSTEM.md 1).
+# for both /usr/local and /usr (docs/conventions.md 1).
 PREFIX     ?= /usr/local
 BINDIR     ?= $(PREFIX)/bin
 LIBDIR     ?= $(PREFIX)/lib

@@ -3,7 +3,7 @@
 -- box, a lathe-like stack of cones merged with a sphere, and a die (a cube
 -- rounded by a sphere, dimpled by spheres) on a reflecting floor. The same
 -- scene as tools/bench/scenes.lua's csg, which `make bench` writes for
--- POV-Ray 3.7 (BENCH.md's conventions: no light falloff, POV-Ray's
+-- POV-Ray 3.7 (docs/bench-scenes.md's conventions: no light falloff, POV-Ray's
 -- colouring, 1280x720, 3 bounces).
 -- Usage: lancer scenes/csg.lua [samples] [out.png]   (or: lancer scenes/csg.lua out.png)
 -- Prints one line to stderr: bench csg lua=<s> build=<s> trace=<s> rays=<n> ...

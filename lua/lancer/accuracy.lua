@@ -1,7 +1,7 @@
 -- lancer.accuracy: `lancer --accuracy SCRIPT.lua --knob samples=1,4,16,64`.
 -- Each render the script asks for is done at every level of each knob, with
 -- several seeds, and measured against a reference rendered with 16 times
--- the largest level (NUMERICS.md 3.1): a table of error, time and
+-- the largest level (docs/numerics.md 3.1): a table of error, time and
 -- efficiency on stdout, a CSV and a log-log plot of error against time.
 --
 -- The reference is two renders with seeds of their own, each with half its
@@ -11,7 +11,7 @@
 local M = {renders = 0}
 
 local REF_FACTOR = 16          -- the reference's budget over the largest level
-local DEPTH_REF = 64           -- NUMERICS.md 3.1's reference depth
+local DEPTH_REF = 64           -- docs/numerics.md 3.1's reference depth
 local REF_SEED = 1000001       -- the reference's two seeds; levels use 1..seeds
 local SIDE = 160               -- longest side by default: keeps the reference affordable
 local DEFAULT_SEEDS = 4
@@ -270,8 +270,8 @@ local function table_text(r, label)
       or ("%.3gx"):format(ratio))
   if ratio > 1 / REF_FACTOR then
     -- The measured MSE is the level's own plus the reference's variance.
-    add("warning: the reference is noisier than NUMERICS.md 3.1 allows (1/16): the " ..
-        "best level's RMSE is overstated by up to %.0f %%", 100 * (1 - math.sqrt(
+    add("warning: the reference is noisier than docs/numerics.md 3.1 allows (1/16): " ..
+        "the best level's RMSE is overstated by up to %.0f %%", 100 * (1 - math.sqrt(
         math.max(0, 1 - ratio))))
     if r.knob ~= "samples" and r.samples > 1 then
       add("hint: at samples=%d the pixel noise, which %s does not reduce, is in the " ..

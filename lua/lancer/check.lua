@@ -8,7 +8,7 @@
 local M = {renders = 0, unstable = 0}
 
 local SIDE = 128            -- the longest side of the check renders
-local WITHIN = 0.999        -- NUMERICS.md's H1/H2 threshold
+local WITHIN = 0.999        -- docs/numerics.md's H1/H2 threshold
 local VARIANTS = {
   {"scale 1e-3", 1e-3},
   {"scale 1e3", 1e3},

@@ -1,6 +1,6 @@
 -- lancer.preview: an image as text for a terminal, two pixels per cell:
 -- the upper half block U+2580 with the top pixel as its foreground and the
--- bottom one as its background (ECOSYSTEM.md section 4). 24-bit colour
+-- bottom one as its background (docs/conventions.md 2). 24-bit colour
 -- (ESC[38;2;R;G;B;48;2;R;G;Bm) when COLORTERM says truecolor or 24bit, else
 -- the 256-colour cube (ESC[38;5;N;48;5;Nm).
 local M = {}

@@ -1,4 +1,4 @@
--- b1.lua: BENCH.md's B1 "mirror room": a closed room, three spheres, a cube,
+-- b1.lua: docs/bench-scenes.md's B1 "mirror room": a closed room, three spheres, a cube,
 -- two point lights and mirror walls, 3 bounces.
 -- Usage: lancer scenes/bench/b1.lua [samples] [out.png]   (samples 1 or 16)
 -- Prints one line to stderr: bench b1 lua=<s> build=<s> trace=<s> rays=<n> ...
@@ -8,7 +8,7 @@ local out = arg and arg[2]
 local t0 = os.clock()   -- CPU time: building is single-threaded, so it is wall time too
 
 -- absorb = 'diffuse': the colour scales ambient and diffuse only (POV-Ray's
--- model, BENCH.md's shading); Phong and mirror terms are not tinted.
+-- model, docs/bench-scenes.md's shading); Phong and mirror terms are not tinted.
 local function mat(c, ka, kd, ks, n, kr)
   return lancer.material{color = c, ka = ka, kd = kd, ks = ks, alpha = n, kr = kr,
                          absorb = "diffuse"}

@@ -1,4 +1,4 @@
--- b2.lua: BENCH.md's B2 "many spheres": N spheres scattered on a ground plane.
+-- b2.lua: B2 "many spheres" of docs/bench-scenes.md: N spheres on a ground plane.
 -- Usage: lancer scenes/bench/b2.lua N [out.png] [samples]
 local lancer = require "lancer"
 local N = tonumber(arg and arg[1]) or 1000

@@ -1,4 +1,4 @@
--- b3.lua: BENCH.md's B3 "mesh": a Q x Q height-field terrain, 2 triangles a quad.
+-- b3.lua: B3 "mesh" of docs/bench-scenes.md: a Q x Q terrain, 2 triangles a quad.
 -- Usage: lancer scenes/bench/b3.lua Q [out.png]   (Q = 707: 1M triangles; 1414: 4M)
 local lancer = require "lancer"
 local Q = tonumber(arg and arg[1]) or 100

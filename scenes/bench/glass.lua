@@ -2,7 +2,7 @@
 -- picture: a glass sphere (ior 1.5) and a mirror sphere over a checker
 -- floor, one point light, a uniform background. The same scene as
 -- tools/bench/scenes.lua's glass, which `make bench` writes for POV-Ray 3.7
--- (BENCH.md's conventions: no light falloff, POV-Ray's colouring, 1280x720,
+-- (docs/bench-scenes.md's conventions: no light falloff, POV-Ray's colouring, 1280x720,
 -- linear output).
 -- Usage: lancer scenes/bench/glass.lua [samples] [out.png]
 -- Prints one line to stderr: bench glass lua=<s> build=<s> trace=<s> rays=<n> ...

@@ -1,4 +1,4 @@
--- s7.lua: NUMERICS.md S7 "cost parity": a diffuse-only scene, 1024x1024 at
+-- s7.lua: docs/numerics.md S7 "cost parity": a diffuse-only scene, 1024x1024 at
 -- 4 spp, 1000 spheres and 1000 triangles, 2 point lights. Rendered by the
 -- full lancer and by `make MINIMAL=1`'s (tools/bench/parity.lua).
 -- Usage: lancer scenes/bench/s7.lua [out.png|-] [side] [samples] [threads]
@@ -10,7 +10,7 @@ local SPP = tonumber(arg and arg[3]) or 4
 local THREADS = tonumber(arg and arg[4]) or 0           -- 0: one per core
 local t0 = os.clock()   -- CPU time: building is single-threaded, so it is wall time too
 
--- The benchmark's PRNG (BENCH.md: a 64-bit LCG, seed 1; Lua integers wrap).
+-- The benchmark's PRNG (docs/bench-scenes.md: a 64-bit LCG, seed 1; Lua integers wrap).
 local s = 1
 local function u()
   s = s * 6364136223846793005 + 1442695040888963407

@@ -1,4 +1,4 @@
--- test_effects.lua: only the effects a scene calls for run (NUMERICS.md 4.3:
+-- test_effects.lua: only the effects a scene calls for run (docs/numerics.md 4.3:
 -- S1-S4, S6, S8, S10, exact ray counts), switches, the ledger, explain.
 local T = require "harness"
 local lancer = require "lancer"

@@ -847,7 +847,7 @@ T.test("a closed image or scene raises instead of crashing", function()
   T.check_error(function() s.max_depth = 1 end, HERE, "freed")
 end)
 
--- ---- failing calls leave the scene as it was (NUMERICS H25) -------------------
+-- ---- failing calls leave the scene as it was (docs/numerics.md H25) ----------
 local function small_scene()
   local s = lancer.scene{camera = lancer.camera{from = {0, 1.2, 4}, at = {0, 0.5, 0}},
                          ambient = 0.1, background = {0.1, 0.2, 0.3}}

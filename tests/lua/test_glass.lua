@@ -1,7 +1,7 @@
 -- test_glass.lua: dielectrics (kt, ior, fresnel, absorption, shadow): the
 -- closed forms of issue 12 (a slab seen head-on, a ray through a sphere's
 -- centre, a ball lens's focus, filtered shadows), the ray tree's counts,
--- and effects on demand. The NUMERICS.md cases (H18-H21, A4, A5) are in
+-- and effects on demand. The docs/numerics.md cases (H18-H21, A4, A5) are in
 -- test_hard.lua.
 local T = require "harness"
 local lancer = require "lancer"

@@ -1,4 +1,4 @@
--- test_hard.lua: the hard cases of NUMERICS.md section 2 (T0, H1-H33, A1-A5),
+-- test_hard.lua: the hard cases of docs/numerics.md section 2 (T0, H1-H33, A1-A5),
 -- each as its own test named after its id, each against a closed form or an
 -- exact invariant, and each also asserting no NaN or infinite pixel.
 --
@@ -1321,8 +1321,8 @@ end)
 T.test("H28 mirror hall kr=0.01 to depth 500 vs 10: the cutoff makes them equal", function()
   -- The throughput cutoff (render option cutoff, 1/255 by default) stops a
   -- chain whose weight 0.01^k falls under it, so depth 500 traces exactly
-  -- the rays of depth 10 and no ray with a vanishing weight: NUMERICS'
-  -- time(500) <= 1.1 time(10), asserted as a ray count (times are noisy).
+  -- the rays of depth 10 and no ray with a vanishing weight: docs/numerics.md
+  -- H28's time(500) <= 1.1 time(10), asserted as a ray count (times are noisy).
   local stats = {}
   local function hall(depth)
     local m = lancer.material{kd = 0.5, kr = 0.01, emission = 0.05, color = {1, 0.8, 0.6}}
@@ -1535,7 +1535,7 @@ T.test("H33 camera on a sphere's surface sees it only past its error bound (no t
   -- t ~ 0 on the near side would hide. Looking out: nothing of the sphere.
   -- At 1e3 the camera c + R*normalize(1, 2, 3) rounds to 5e-14 outside the
   -- sphere; a hit at t = 5e-14 is inside the rounding of the camera's own
-  -- position and must not count (NUMERICS H33: "only for t > bound").
+  -- position and must not count (docs/numerics.md H33: "only for t > bound").
   local function case(c, R, from, inward, what)
     local dirc = sub(c, from)
     local at = inward and c or sub(from, dirc)
@@ -1643,7 +1643,7 @@ T.test("A3 light_samples = 0: a quad lights by L*A*cos*cos_l/(pi d^2) toward its
   -- With light_samples = 0 lancer lights by a quad through its projected
   -- area seen from the point (the seed's model), not the exact polygon
   -- formula: E/L = 1 under the unit square at height 1, +32.9 % off the
-  -- exact 0.7522747 (NUMERICS A3); at height 0.5 the approximation clamps.
+  -- exact 0.7522747 (docs/numerics.md A3); at height 0.5 the approximation clamps.
   local L, kd = 3, 0.8
   local C = {1, 0.5, 0.25}
   for _, hgt in ipairs{1, 0.5, 2} do

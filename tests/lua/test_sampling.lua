@@ -1,5 +1,5 @@
 -- test_sampling.lua: samplers, diffusion cones, area lights, the thin lens
--- and adaptive sampling, against closed forms and NUMERICS.md's targets
+-- and adaptive sampling, against closed forms and docs/numerics.md's targets
 -- (T0, T2, T3, T4, T7, H21(d), H23, H24, H28, A2, A3, S5, S6, S8).
 local T = require "harness"
 local lancer = require "lancer"
@@ -416,7 +416,7 @@ end)
 T.test("T4 stratified cone rays: RMSE at 16 at least 1.5x lower than independent", function()
   -- The bar's reflected edges, 4 pixels apart: a bar thinner than one
   -- stratum of the cone gains little from stratifying (a 0.3-pixel line:
-  -- RMSE ratio 1.04 measured), edges gain the most (NUMERICS.md 3.2).
+  -- RMSE ratio 1.04 measured), edges gain the most (docs/numerics.md 3.2).
   local _, ref = line_profile({cone_samples = 1024}, 0.15, 64)
   local function err(sampler)
     local s = 0

@@ -1,4 +1,4 @@
--- adaptive.lua: NUMERICS.md T7, adaptive sampling reaches the RMSE of
+-- adaptive.lua: docs/numerics.md T7, adaptive sampling reaches the RMSE of
 -- uniform 256 samples per pixel in at most half the time, without bias.
 --
 -- The scene is the T7 test's (tests/lua/test_sampling.lua) at a larger

@@ -1,5 +1,5 @@
--- bench.lua: `make bench`: lancer, POV-Ray 3.7 and Tachyon 0.99 on BENCH.md's
--- scenes, the CSG scene (scenes/csg.lua) and the glass-and-checker scene
+-- bench.lua: `make bench`: lancer, POV-Ray 3.7 and Tachyon 0.99 on the scenes of
+-- docs/bench-scenes.md, the CSG scene (scenes/csg.lua) and the glass-and-checker scene
 -- (scenes/bench/glass.lua), both against POV-Ray, and Embree 3 on the same
 -- rays (tools/bench/embree.lua).
 --

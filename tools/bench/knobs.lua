@@ -1,4 +1,4 @@
--- knobs.lua: NUMERICS.md T5, the cost of each sampling knob is linear:
+-- knobs.lua: docs/numerics.md T5, the cost of each sampling knob is linear:
 -- trace time at 256 over trace time at 16 within [14.4, 17.6] for camera
 -- samples per pixel, cone samples per glossy hit and light samples per
 -- area light, each with the other two at 1.

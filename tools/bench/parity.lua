@@ -1,5 +1,5 @@
 -- parity.lua: what the full shading costs on a scene that needs none of it
--- (NUMERICS.md S7). scenes/bench/s7.lua (diffuse only, 1024x1024 at 4 spp,
+-- (docs/numerics.md S7). scenes/bench/s7.lua (diffuse only, 1024x1024 at 4 spp,
 -- 1000 spheres and 1000 triangles, 2 point lights) traced by the normal
 -- lancer and by `make MINIMAL=1`'s (src/shade_minimal.c: the diffuse path
 -- alone, over the same intersection, BVH and camera code), interleaved; the

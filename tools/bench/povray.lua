@@ -1,6 +1,6 @@
 -- povray.lua: writes a scenes.lua scene as a POV-Ray 3.7 file; how to render it.
 --
--- BENCH.md's rules: right-handed camera through `right -x*W/H`, point lights
+-- docs/bench-scenes.md's rules: right-handed camera through `right -x*W/H`, point lights
 -- without fade, finish { ambient kd phong reflection } (POV-Ray's colour
 -- scales ambient and diffuse only, as the spec's shading does),
 -- max_trace_level = depth + 1, no adaptive depth cut-off (adc_bailout 0),

@@ -4,7 +4,7 @@
 **
 ** Usage: lc-raycast b2 N | b3 Q | mesh FILE.obj  [threads [runs]]
 **
-** The geometry is BENCH.md's B2 (N spheres on a ground plane) or B3 (a Q x Q
+** The geometry is docs/bench-scenes.md's B2 (N spheres on a ground plane) or B3 (a Q x Q
 ** terrain), built from the same generator as scenes/bench/b2.lua and b3.lua,
 ** in double for lancer and rounded to float for Embree (sphere radii
 ** rounded up); or an OBJ mesh, seen from a camera that frames it. Three ray
@@ -61,7 +61,7 @@ static void *xmalloc(size_t n)
 
 /* ---- the geometry ---------------------------------------------------------------- */
 
-/* BENCH.md's PRNG (seed 1). */
+/* docs/bench-scenes.md's PRNG (seed 1). */
 static uint64_t prng = 1;
 static double u01(void)
 {
@@ -98,11 +98,12 @@ static void make_b2(geometry *g, size_t n)
         double *s = g->spheres + 4 * k;
         s[0] = x, s[1] = r, s[2] = z, s[3] = r;
     }
-    /* BENCH.md's reference values: the same generator as b2.lua. */
+    /* docs/bench-scenes.md's reference values: the same generator as b2.lua. */
     if (n >= 3 && (fabs(g->spheres[0] + 7.679082913) > 1e-9 ||
                    fabs(g->spheres[4 + 2] - 29.544774925) > 1e-9 ||
                    fabs(g->spheres[8 + 3] - 0.259931527) > 1e-9))
-        die("b2", "the generator does not match BENCH.md's reference values");
+        die("b2", "the generator does not match the reference values "
+            "(docs/bench-scenes.md)");
     g->eye = (lc_vec3){0, 12, 62};
     g->at = (lc_vec3){0, 0, 0};
     g->light = (lc_vec3){40, 60, 30};
@@ -130,7 +131,8 @@ static void make_b3(geometry *g, size_t q)
             *f++ = v00, *f++ = v11, *f++ = v01;
         }
     if (fabs(terrain(0, 0) - 0.997286094) > 1e-9 || fabs(terrain(10, -20) + 3.123107719) > 1e-9)
-        die("b3", "the height field does not match BENCH.md's reference values");
+        die("b3", "the height field does not match the reference values "
+            "(docs/bench-scenes.md)");
     g->eye = (lc_vec3){0, 14, 62};
     g->at = (lc_vec3){0, 0, 0};
     g->light = (lc_vec3){60, 25, 20};
@@ -281,7 +283,8 @@ static lc_vec3 cross(lc_vec3 a, lc_vec3 b)
 }
 static lc_vec3 unit(lc_vec3 a) { return mul(a, 1 / sqrt(dot(a, a))); }
 
-/* BENCH.md's pinhole camera, 60 degrees across, through each pixel centre. */
+/* The benchmark's pinhole camera (docs/bench-scenes.md), 60 degrees across,
+** through each pixel centre. */
 static lc_ray *camera_rays(const geometry *g)
 {
     lc_ray *r = xmalloc((size_t)W * H * sizeof *r);

@@ -231,7 +231,8 @@ local IMAGES = [[
 Image columns: mean |lancer - peer| x 255 over all channels, and the share of pixels
 whose channels all differ by <= 2/255. PASS vs POV-Ray: mean <= %.1f/255 and >= %.0f %%
 within. Tachyon is only reported: its pixel (i, j) is sampled at the corner (i+1, j)
-of the others' grid (BENCH.md), so every edge differs; compared at that corner (lancer
+of the others' grid (docs/bench-scenes.md), so every edge
+differs; compared at that corner (lancer
 rendered on the (W+1)x(H+1) corner grid) it matches too (B2 100k: 0.47/255, 100 %%
 within).
 ]]

@@ -1,7 +1,7 @@
 -- robust.lua: what robustness costs. The same scenes traced by the normal
 -- lancer and by `make NAIVE=1`'s (textbook sphere quadratic, a fixed 1e-4
 -- spawn offset, Moller-Trumbore triangles), interleaved; the target is at
--- most 5 % more trace time for the robust code (NUMERICS.md T8).
+-- most 5 % more trace time for the robust code (docs/numerics.md T8).
 local M = {}
 
 M.TARGET = 1.05

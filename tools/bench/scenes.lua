@@ -1,10 +1,10 @@
--- scenes.lua: BENCH.md's scenes B1, B2 and B3 and the scene classes (a city,
+-- scenes.lua: docs/bench-scenes.md's scenes B1, B2 and B3 and the scene classes (a city,
 -- clusters, mixed primitives, instances) as plain data, for the peer writers.
 --
 -- lancer's own versions are scenes/bench/b*.lua, written against its API;
 -- this file says the same thing once more in renderer-neutral terms so that
 -- povray.lua and tachyon.lua write their files from one description. Keep
--- both in step with BENCH.md, not with each other.
+-- both in step with docs/bench-scenes.md, not with each other.
 --
 -- A scene is a table:
 --   camera      {eye = {x,y,z}, target = {x,y,z}, up = {x,y,z}, hfov = degrees}
@@ -19,7 +19,7 @@
 --   boxes       list of {min, max, material} (axis-aligned)
 --   spheres(emit)  calls emit(x, y, z, r, material) for every sphere, in order
 --   sphere_decimals  digits the writers give sphere numbers (nil: full precision)
---   mesh        nil or {q = Q, height = h(x, z), material} (BENCH.md's B3 grid)
+--   mesh        nil or {q = Q, height = h(x, z), material} (B3's grid)
 --   csg         nil or a list of trees: {op = "difference" | "intersection" |
 --               "union" | "merge", operand, ...}, leaves {shape = "box", min, max},
 --               {shape = "sphere", center, radius}, {shape = "cylinder", base,
@@ -74,7 +74,8 @@ function M.b1()
   }
 end
 
--- B2 "many spheres": n spheres from BENCH.md's PRNG (seed 1) on a ground plane.
+-- B2 "many spheres": n spheres from the PRNG of docs/bench-scenes.md (seed 1) on
+-- a ground plane.
 local PALETTE = {{0.9, 0.2, 0.2}, {0.2, 0.9, 0.2}, {0.2, 0.3, 0.9}, {0.9, 0.9, 0.2},
                  {0.9, 0.2, 0.9}, {0.2, 0.9, 0.9}, {0.95, 0.95, 0.95}, {0.9, 0.5, 0.1}}
 
@@ -106,7 +107,7 @@ function M.b2(n)
     planes = {{point = {0, 0, 0}, normal = {0, 1, 0}, material = "ground"}},
     boxes = {},
     spheres = spheres,
-    sphere_decimals = 5,             -- BENCH.md: centre and radius with 5 decimals
+    sphere_decimals = 5,             -- the peers' files: centre and radius, 5 decimals
   }
 end
 

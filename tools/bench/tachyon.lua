@@ -1,6 +1,6 @@
 -- tachyon.lua: writes a scenes.lua scene as a Tachyon 0.99 file; how to render it.
 --
--- BENCH.md's rules: Tachyon is left-handed with no switch, so every x is
+-- docs/bench-scenes.md's rules: Tachyon is left-handed with no switch, so every x is
 -- negated (the mirrored scene gives the same image); ZOOM = 0.5 (W/H) /
 -- tan(hfov/2) with ASPECTRATIO 1; RAYDEPTH = depth + 1; a material is
 -- AMBIENT ka DIFFUSE kd SPECULAR kr (Tachyon's SPECULAR is the mirror
@@ -26,7 +26,7 @@ end
 
 local function write_header(f, scene)
   local c = scene.camera
-  -- BENCH.md's basis: f forward, r = f x up, u = r x f. Tachyon gets f and
+  -- docs/bench-scenes.md's basis: f forward, r = f x up, u = r x f. Tachyon gets f and
   -- the true (orthogonal) up, both mirrored with the scene.
   local fwd = normalize(sub(c.target, c.eye))
   local right = normalize(cross(fwd, c.up))
