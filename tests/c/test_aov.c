@@ -15,6 +15,7 @@
 #include <openexr.h>
 #include "lancer.h"
 #include "raster.h"
+#include "helpers.h"
 
 #define W 13                       /* odd: the last chunk of rows is partial */
 #define H 21
@@ -25,17 +26,13 @@ static char dir[64];
 static int setup(void **state)
 {
     (void)state;
-    snprintf(dir, sizeof dir, "%s/lancer-aov-XXXXXX",
-             access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp");
-    return mkdtemp(dir) ? 0 : -1;
+    return scratch_dir_make(dir, sizeof dir, "aov");
 }
 
 static int teardown(void **state)
 {
-    char cmd[128];
     (void)state;
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return scratch_dir_remove(dir);
 }
 
 /* A floor, a glass ball, a mirror ball and a glowing one, lit by a point

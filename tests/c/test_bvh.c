@@ -11,6 +11,7 @@
 #include <cmocka.h>
 #include "mem.h"
 #include "scene.h"
+#include "helpers.h"
 
 #define M_PI 3.14159265358979323846
 
@@ -18,8 +19,7 @@ static uint64_t rng_state = 12345;
 
 static double rnd(void)          /* deterministic, [0, 1) */
 {
-    rng_state = rng_state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
+    return lcg(&rng_state);
 }
 
 /* Nearest hit by testing every primitive: what the BVH must reproduce. */
@@ -55,11 +55,7 @@ static int brute_closest(const lc_scene *s, const ray *r, hit *best)
     return found;
 }
 
-static lc_vec3 random_dir(void)
-{
-    double z = 2 * rnd() - 1, a = 2 * M_PI * rnd(), r = sqrt(1 - z * z);
-    return v3(r * cos(a), r * sin(a), z);
-}
+static lc_vec3 random_dir(void) { return rand_sphere_dir(&rng_state); }
 
 static void bvh_matches_brute_force(void **state)
 {

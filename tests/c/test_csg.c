@@ -15,6 +15,7 @@
 #include <cmocka.h>
 #include "interrupt.h"
 #include "scene.h"
+#include "helpers.h"
 
 /* ---- helpers ---------------------------------------------------------------- */
 
@@ -35,12 +36,6 @@ static lc_vec3 unit_random(void)
         if (l > 0.1 && l <= 1)
             return v3_mul(v, 1 / l);
     }
-}
-
-static ray mkray(lc_vec3 o, lc_vec3 d)
-{
-    ray r = {o, v3_norm(d)};
-    return r;
 }
 
 static lc_csg_node op(lc_csg_op o, int count)
@@ -111,13 +106,6 @@ static int trace(const lc_scene *s, ray r, hit *h)
 {
     bvh_counts c = {0, 0, 0};
     return intersect_closest(s, &r, HUGE_VAL, h, &c);
-}
-
-static void near(double got, double want, double tol, const char *what)
-{
-    if (!(fabs(got - want) <= tol))
-        fail_msg("%s: got %.17g, expected %.17g (off by %.3g > %.3g)", what, got, want,
-                 fabs(got - want), tol);
 }
 
 static void same_vec(lc_vec3 a, lc_vec3 b, double tol, const char *what)
@@ -316,7 +304,7 @@ static int combine(lc_csg_op o, const int *v, int n)
 ** random direction is one the ray leaves by. */
 static int inside_by_ray(const lc_scene *s, lc_vec3 p)
 {
-    ray r = mkray(p, unit_random());
+    ray r = mkray_unit(p, unit_random());
     hit h;
     return trace(s, r, &h) && v3_dot(h.n, r.d) > 0;
 }
@@ -347,7 +335,7 @@ static void classify(const lc_csg_node *nodes, size_t n, const test_leaf *const 
                      p.x, p.y, p.z, want ? "inside" : "outside",
                      got ? "inside" : "outside");
         if (!want) {
-            ray r = mkray(p, unit_random());
+            ray r = mkray_unit(p, unit_random());
             double tmax = 3 * uniform();
             hit h;
             bvh_counts c = {0, 0, 0};
@@ -384,7 +372,7 @@ static void union_is_a_group(const lc_csg_node *nodes, const char *what)
         parts[k] = csg_scene(nodes + 1 + k, 1);
     for (int i = 0; i < 4000; i++) {
         lc_vec3 p = v3(4 * uniform() - 2, 4 * uniform() - 2, 4 * uniform() - 2);
-        ray r = mkray(p, unit_random());
+        ray r = mkray_unit(p, unit_random());
         hit h, a, b;
         int k = trace(s, r, &h);
         int ka = trace(parts[0], r, &a), kb = trace(parts[1], r, &b);
@@ -453,7 +441,7 @@ static void intersection_of_two_spheres(void **state)
         double za = sqrt(1 - x * x - y * y), zb = sqrt(1 - (x - 1) * (x - 1) - y * y);
         double z = -fmin(za, zb);
         hit h;
-        if (!trace(s, mkray(v3(x, y, -5), v3(0, 0, 1)), &h))
+        if (!trace(s, mkray_unit(v3(x, y, -5), v3(0, 0, 1)), &h))
             fail_msg("ray %d missed the lens", i);
         near(h.t, 5 + z, 1e-14, "entry distance");
         /* x = 0.5: both at once, one event; the first operand's face shows */
@@ -471,7 +459,7 @@ static void intersection_of_two_spheres(void **state)
     }
     /* Outside the lens but inside one sphere: nothing but the lens. */
     hit h;
-    if (trace(s, mkray(v3(-0.5, 0, -5), v3(0, 0, 1)), &h))
+    if (trace(s, mkray_unit(v3(-0.5, 0, -5), v3(0, 0, 1)), &h))
         fail_msg("a ray through sphere 1 alone hit the lens at %g", h.t);
     lc_scene_free(s);
 }
@@ -495,7 +483,7 @@ static void box_minus_sphere_through_the_hole(void **state)
             double x = xy[i][0], y = xy[i][1], r2 = x * x + y * y;
             double z = -1 + sqrt(0.25 - r2);
             hit h;
-            if (!trace(s, mkray(v3(x, y, -5), v3(0, 0, 1)), &h))
+            if (!trace(s, mkray_unit(v3(x, y, -5), v3(0, 0, 1)), &h))
                 fail_msg("ray %d went through the box", i);
             near(h.t, 5 + z, 1e-14, "the dent's floor");
             same_vec(h.n, v3_mul(v3(-x, -y, -(z + 1)), 2), 1e-14, "its normal");
@@ -507,7 +495,7 @@ static void box_minus_sphere_through_the_hole(void **state)
                          h.instance - 1);
         }
         hit h;
-        if (!trace(s, mkray(v3(0.7, 0.1, -5), v3(0, 0, 1)), &h))
+        if (!trace(s, mkray_unit(v3(0.7, 0.1, -5), v3(0, 0, 1)), &h))
             fail_msg("missed the face beside the hole");
         if (h.t != 4 || h.p.z != -1 || h.n.z != -1 || h.material != 3)
             fail_msg("face: t %.17g, z %.17g, n.z %g, material %d", h.t, h.p.z, h.n.z,
@@ -524,7 +512,7 @@ static void same_hits(const lc_scene *a, const lc_scene *b, lc_vec3 from, double
     int hits = 0;
     for (int i = 0; i < n; i++) {
         lc_vec3 target = v3_madd(at, unit_random(), spread * uniform());
-        ray r = mkray(from, v3_sub(target, from));
+        ray r = mkray_unit(from, v3_sub(target, from));
         hit ha, hb;
         int ka = trace(a, r, &ha), kb = trace(b, r, &hb);
         if (ka != kb)
@@ -611,7 +599,7 @@ static void coincident_and_tangent_cutters(void **state)
     for (int i = 0; i < 2000; i++) {
         double x = uniform(), y = uniform();
         hit h;
-        if (!trace(s, mkray(v3(x, y, 3), v3(0, 0, -1)), &h))
+        if (!trace(s, mkray_unit(v3(x, y, 3), v3(0, 0, -1)), &h))
             fail_msg("missed the pocketed box at (%g, %g)", x, y);
         int in = x >= 0.25 && x <= 0.75 && y >= 0.25 && y <= 0.75;
         if (h.p.z != (in ? 0.5 : 1) || h.n.z != 1 || h.material != (in ? 5 : 2))
@@ -632,18 +620,18 @@ static void camera_inside(void **state)
                             leaf(sphere(v3(0, 0, 0), 1), 2)};
     lc_scene *s = csg_scene(nodes, 3);
     hit h;
-    if (!trace(s, mkray(v3(1.5, 0, 0), v3(-1, 0, 0)), &h))
+    if (!trace(s, mkray_unit(v3(1.5, 0, 0), v3(-1, 0, 0)), &h))
         fail_msg("from the wall toward the cavity: nothing");
     near(h.t, 0.5, 1e-15, "to the cavity");
     same_vec(h.n, v3(-1, 0, 0), 1e-15, "the cavity's normal seen from the wall");
     if (h.material != 2)
         fail_msg("cavity: material %d", h.material);
-    if (!trace(s, mkray(v3(1.5, 0, 0), v3(1, 0, 0)), &h) || h.t != 0.5 || h.n.x != 1 ||
-        h.material != 1)
+    if (!trace(s, mkray_unit(v3(1.5, 0, 0), v3(1, 0, 0)), &h) || h.t != 0.5 ||
+        h.n.x != 1 || h.material != 1)
         fail_msg("from the wall outward: t %g, n.x %g", h.t, h.n.x);
     for (int i = 0; i < 2000; i++) {
         lc_vec3 o = v3_mul(unit_random(), 0.5 * uniform());
-        ray r = mkray(o, unit_random());
+        ray r = mkray_unit(o, unit_random());
         if (!trace(s, r, &h))
             fail_msg("from inside the cavity: nothing");
         near(v3_len(h.p), 1, 1e-15, "on the cavity's wall");
@@ -685,7 +673,7 @@ static void nested_and_moved(void **state)
     int hits = 0;
     for (int i = 0; i < 20000; i++) {
         lc_vec3 from = v3_mul(unit_random(), 4);
-        ray r = mkray(from, v3_sub(v3_mul(unit_random(), 1.2), from));
+        ray r = mkray_unit(from, v3_sub(v3_mul(unit_random(), 1.2), from));
         lc_vec3 d = lc_transform_vector(&m, r.d);
         ray rm = {lc_transform_point(&m, r.o), v3_norm(d)};
         hit ha, hb;
@@ -737,7 +725,7 @@ static void mesh_leaf_against_the_box(void **state)
                 at.y = at.x;
                 at.z = 1;
             }
-            ray r = mkray(from, v3_sub(at, from));
+            ray r = mkray_unit(from, v3_sub(at, from));
             hit ha, hb;
             int ka = trace(a, r, &ha), kb = trace(b, r, &hb);
             if (ka != kb) {
@@ -888,7 +876,7 @@ static void spawned_rays_never_return(void **state)
             lc_vec3 at = v3_add(v3_mul(v3(-2.5 + 7 * uniform(), 1.4 * uniform() - 0.2,
                                           1.4 * uniform() - 0.2), sc), off);
             lc_vec3 from = v3_madd(at, unit_random(), 5 * sc);
-            ray r = mkray(from, v3_sub(at, from));
+            ray r = mkray_unit(from, v3_sub(at, from));
             hit h;
             if (!trace(s, r, &h))
                 continue;
@@ -954,7 +942,7 @@ static void bounds_are_tight(void **state)
     for (int i = 0; i < 20000; i++) {
         lc_vec3 from = v3_add(v3(0.5, 0.5, 0.5), v3_mul(unit_random(), 6));
         lc_vec3 at = v3(-2.5 + 7 * uniform(), uniform(), uniform());
-        ray r = mkray(from, v3_sub(at, from));
+        ray r = mkray_unit(from, v3_sub(at, from));
         hit h;
         if (!trace(s, r, &h))
             continue;
@@ -988,9 +976,9 @@ static void listing_and_removal(void **state)
     assert_int_equal(objs[1].id, 2);
     compile_or_fail(s);
     hit h;
-    if (trace(s, mkray(v3(3, 0.5, 5), v3(0, 0, -1)), &h))
+    if (trace(s, mkray_unit(v3(3, 0.5, 5), v3(0, 0, -1)), &h))
         fail_msg("the removed torus is still hit");
-    if (!trace(s, mkray(v3(-2, 0.2, 5), v3(0, 0, -1)), &h) || h.t != 4)
+    if (!trace(s, mkray_unit(v3(-2, 0.2, 5), v3(0, 0, -1)), &h) || h.t != 4)
         fail_msg("the mesh cube is not where it was");
     lc_scene_free(s);
 }

@@ -1,4 +1,4 @@
-/* test_dielectric.c: Snell's law, the Fresnel equations (NUMERICS.md 1.10,
+/* test_dielectric.c: Snell's law, the Fresnel equations (docs/numerics.md 1.10,
 ** H19) and the media a path is in (H20's rules), against closed forms. */
 #include <float.h>
 #include <math.h>
@@ -10,23 +10,7 @@
 #include <cmocka.h>
 #include "dielectric.h"
 #include "media.h"
-
-/* Knuth's MMIX LCG, seeded per case: [0, 1). */
-static double lcg(uint64_t *s)
-{
-    *s = *s * 6364136223846793005u + 1442695040888963407u;
-    return (double)(*s >> 11) * 0x1p-53;
-}
-
-static lc_vec3 rand_unit(uint64_t *s)
-{
-    for (;;) {
-        lc_vec3 a = v3(2 * lcg(s) - 1, 2 * lcg(s) - 1, 2 * lcg(s) - 1);
-        double l = v3_dot(a, a);
-        if (l <= 1 && l > 1e-4)
-            return v3_mul(a, 1 / sqrt(l));
-    }
-}
+#include "helpers.h"
 
 #define SUBNORMAL_MIN 0x1p-1074       /* C11's DBL_TRUE_MIN */
 

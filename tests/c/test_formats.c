@@ -15,6 +15,7 @@
 #include "lancer.h"
 #include "mem.h"
 #include "raster.h"
+#include "helpers.h"
 
 #define W 13                       /* odd sizes: edge tiles and chunks are partial */
 #define H 37
@@ -24,18 +25,13 @@ static char dir[64];
 static int setup(void **state)
 {
     (void)state;
-    /* In memory when there is a tmpfs: every save syncs its file to disk. */
-    snprintf(dir, sizeof dir, "%s/lancer-formats-XXXXXX",
-             access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp");
-    return mkdtemp(dir) ? 0 : -1;
+    return scratch_dir_make(dir, sizeof dir, "formats");
 }
 
 static int teardown(void **state)
 {
-    char cmd[128];
     (void)state;
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return scratch_dir_remove(dir);
 }
 
 static const char *path_of(const char *name)

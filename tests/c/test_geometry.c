@@ -8,6 +8,7 @@
 #include <string.h>
 #include <cmocka.h>
 #include "shape.h"
+#include "helpers.h"
 
 /* Half an ulp of 1: the relative error of one rounding. */
 #define EPS (DBL_EPSILON / 2)
@@ -16,12 +17,6 @@
 #define SQRT2   1.41421356237309504880
 
 /* ---- Helpers ------------------------------------------------------------- */
-
-static ray mkray(lc_vec3 o, lc_vec3 d)
-{
-    ray r = {o, d};
-    return r;
-}
 
 static sphere_geom mksphere(lc_vec3 c, double r)
 {
@@ -170,13 +165,6 @@ static hit get_hit_at(hit_fn fn, const void *g, ray r, const char *file, int lin
     return h;
 }
 
-/* A small deterministic generator (Knuth's MMIX LCG), seeded per case. */
-static double lcg(uint64_t *s)
-{
-    *s = *s * 6364136223846793005u + 1442695040888963407u;
-    return (double)(*s >> 11) * 0x1p-53;            /* [0, 1) */
-}
-
 static lc_vec3 rand_in_ball(uint64_t *s)
 {
     for (;;) {
@@ -188,13 +176,13 @@ static lc_vec3 rand_in_ball(uint64_t *s)
     }
 }
 
-static lc_vec3 rand_unit(uint64_t *s) { return v3_norm(rand_in_ball(s)); }
+static lc_vec3 ball_dir(uint64_t *s) { return v3_norm(rand_in_ball(s)); }
 
 /* A direction on the side of n given by sign: uniform for even k, and for
 ** odd k within 10^-12 .. 10^-1 radians of the tangent plane (grazing). */
 static lc_vec3 rand_dir(uint64_t *s, lc_vec3 n, int sign, int k)
 {
-    lc_vec3 w = rand_unit(s);
+    lc_vec3 w = ball_dir(s);
     if (k % 2) {
         lc_vec3 tg = v3_norm(v3_madd(w, n, -v3_dot(w, n)));
         w = v3_norm(v3_madd(tg, n, pow(10, -1 - 11 * lcg(s))));
@@ -349,7 +337,7 @@ static long double sphere_near_root(const sphere_geom *g, ray r)
 ** t: its few roundings are relative to |f| ~ t, so 4 ulps of t. The stored
 ** point is the refined local point plus the centre, one rounding of |p|:
 ** within perr of the surface (geom.h's promise) and within 1e-9 of it
-** relative to the coordinates' magnitude (NUMERICS 1.1: error follows |p|). */
+** relative to the coordinates' magnitude (docs/numerics.md 1.1: error follows |p|). */
 static void sphere_small_and_far(void **state)
 {
     (void)state;
@@ -833,9 +821,6 @@ static const double shifts[] = {0, 1e3, 1e5, 1e7};
 #define NSHIFTS (sizeof shifts / sizeof shifts[0])
 #define SPAWN_RAYS 300
 
-/* Where NUMERICS H2 puts a translated scene. */
-static lc_vec3 shift_of(double t) { return v3(t, t / 2, t / 3); }
-
 /* Both roots of |o + t d - c| = r in long double (any |d|); 0 when none. */
 static int sphere_roots_l(const sphere_geom *g, lc_vec3 o, lc_vec3 d, long double *t0,
                           long double *t1, long double *disc)
@@ -879,7 +864,7 @@ static void spawn_sphere(void **state)
             lc_vec3 c = shift_of(shifts[ti]);
             sphere_geom g = mksphere(c, r);
             for (int k = 0; k < SPAWN_RAYS; k++) {
-                lc_vec3 o = v3_madd(c, rand_unit(&seed), (k % 4 == 3 ? 0.5 : 4) * r);
+                lc_vec3 o = v3_madd(c, ball_dir(&seed), (k % 4 == 3 ? 0.5 : 4) * r);
                 lc_vec3 to = v3_madd(c, rand_in_ball(&seed), 0.9 * r);
                 ray cam = mkray(o, v3_norm(v3_sub(to, o)));
                 hit h;
@@ -936,7 +921,7 @@ static void rand_frame(uint64_t *seed, int i, lc_vec3 e[3])
         }
         return;
     }
-    lc_vec3 x = rand_unit(seed), y = rand_unit(seed);
+    lc_vec3 x = ball_dir(seed), y = ball_dir(seed);
     y = v3_norm(v3_madd(y, x, -v3_dot(x, y)));
     e[0] = x;
     e[1] = y;
@@ -969,9 +954,9 @@ static void spawn_quad(void **state)
                 /* The camera at least 0.1 rad off the plane: t = (k - n.o) / n.d
                 ** carries eps |n| |o| absolute, so at T = 1e7 an origin a few
                 ** ulps off the plane of a 1e-6 quad may see t = 0. */
-                lc_vec3 a = rand_unit(&seed);
+                lc_vec3 a = ball_dir(&seed);
                 while (fabs(v3_dot(a, g.un)) < 0.1)
-                    a = rand_unit(&seed);
+                    a = ball_dir(&seed);
                 lc_vec3 o = v3_madd(to, a, 4 * s);
                 ray cam = mkray(o, v3_norm(v3_sub(to, o)));
                 hit h;
@@ -1041,10 +1026,10 @@ static void spawn_box(void **state)
                     to = v3_madd(to, e[j], j < fixed ? (double)(lcg(&seed) < 0.5)
                                                      : 0.05 + 0.9 * lcg(&seed));
                 lc_vec3 o = k % 4 == 3 ? v3_madd(centre, rand_in_ball(&seed), 0.2 * s)
-                                       : v3_madd(to, rand_unit(&seed), 5 * s);
+                                       : v3_madd(to, ball_dir(&seed), 5 * s);
                 lc_vec3 d = v3_norm(v3_sub(to, o));
                 if (k % 4 == 3)
-                    d = rand_unit(&seed);
+                    d = ball_dir(&seed);
                 ray cam = mkray(o, d);
                 hit h;
                 if (!box_hit(&g, &cam, 0, HUGE_VAL, &h)) {

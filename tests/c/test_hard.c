@@ -1,4 +1,4 @@
-/* test_hard.c: NUMERICS.md's hard cases that need internals or many rays. */
+/* test_hard.c: docs/numerics.md's hard cases that need internals or many rays. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -9,36 +9,18 @@
 #include <string.h>
 #include <cmocka.h>
 #include "scene.h"
+#include "helpers.h"
 
 #define PI 3.14159265358979323846
 
-/* Scales and translations of the invariance cases (NUMERICS H1, H2): a
+/* Scales and translations of the invariance cases (docs/numerics.md H1, H2): a
 ** scene of size s moved by (T, T/2, T/3). */
 static const double scales[] = {1e-4, 1e-2, 1, 1e2, 1e4, 1e6};
 static const double shifts[] = {0, 1e3, 1e5, 1e7};
 #define NSCALES (sizeof scales / sizeof scales[0])
 #define NSHIFTS (sizeof shifts / sizeof shifts[0])
 
-static lc_vec3 shift_of(double t) { return v3(t, t / 2, t / 3); }
-
 /* ---- Helpers ------------------------------------------------------------- */
-
-/* Knuth's MMIX LCG, seeded per case: [0, 1). */
-static double lcg(uint64_t *s)
-{
-    *s = *s * 6364136223846793005u + 1442695040888963407u;
-    return (double)(*s >> 11) * 0x1p-53;
-}
-
-static lc_vec3 rand_unit(uint64_t *s)
-{
-    for (;;) {
-        lc_vec3 a = v3(2 * lcg(s) - 1, 2 * lcg(s) - 1, 2 * lcg(s) - 1);
-        double l = v3_dot(a, a);
-        if (l <= 1 && l > 1e-4)
-            return v3_mul(a, 1 / sqrt(l));
-    }
-}
 
 /* A direction on the side of unit n given by sign: uniform for even k, for
 ** odd k within 1e-12 .. 1e-1 radians of the tangent plane (grazing). */
@@ -68,12 +50,6 @@ static void rand_frame(uint64_t *seed, int i, lc_vec3 e[3])
     e[0] = x;
     e[1] = y;
     e[2] = v3_cross(x, y);
-}
-
-static ray mkray(lc_vec3 o, lc_vec3 d)
-{
-    ray r = {o, d};
-    return r;
 }
 
 /* A scene with one white material: the shapes go in through the C API. */
@@ -114,7 +90,7 @@ static lc_shape quad_shape(lc_vec3 q, lc_vec3 u, lc_vec3 v)
     return sh;
 }
 
-/* ---- Spawned rays on triangles (NUMERICS 1.5, H1, H2) --------------------- */
+/* ---- Spawned rays on triangles (docs/numerics.md 1.5, H1, H2) --------------------- */
 
 /* Random triangles at scales 1e-4..1e6 moved up to 1e7; camera rays at the
 ** interior, an edge or a vertex; from each hit a ray spawned to either side
@@ -722,7 +698,7 @@ static void thin_slab_occludes(void **state)
         fail_msg("%d of %d shadow rays passed a 1e-6 s slab", leaks, tested);
 }
 
-/* ---- Oblikovati issue #2146 (NUMERICS 1.3) --------------------------------- */
+/* ---- Oblikovati issue #2146 (docs/numerics.md 1.3) ------------------- */
 
 /* The quad (-5,-5,0)..(5,5,0) as two triangles sharing the diagonal y = x;
 ** the ray from (0,0,10) toward (0.30458447, 0.30458447, -0.9024725) lands
@@ -799,7 +775,7 @@ static void oblikovati_diagonal(void **state)
 ** is refused, naming the radius. One of the smallest radius accepted,
 ** LC_MIN_LENGTH, is hit exactly by a ray through its centre, the distance
 ** test and the full test agree, and a ray passing 10 radii beside it sees
-** the wall behind (NUMERICS H12). */
+** the wall behind (docs/numerics.md H12). */
 static void tiny_sphere_is_exact(void **state)
 {
     (void)state;

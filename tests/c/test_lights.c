@@ -10,14 +10,9 @@
 #include <string.h>
 #include <cmocka.h>
 #include "lancer.h"
+#include "helpers.h"
 
 #define PI 3.14159265358979323846
-
-static void near(double got, double want, double tol, const char *what)
-{
-    if (!(fabs(got - want) <= tol))
-        fail_msg("%s: got %.17g, want %.17g", what, got, want);
-}
 
 /* The point at angle theta (degrees) off a spot at the origin pointing down
 ** -y, at distance 3: in the xy plane. */

@@ -9,24 +9,9 @@
 #include <string.h>
 #include <cmocka.h>
 #include "scene.h"
+#include "helpers.h"
 
 /* ---- Helpers ------------------------------------------------------------- */
-
-static double lcg(uint64_t *s)     /* Knuth's MMIX LCG: [0, 1) */
-{
-    *s = *s * 6364136223846793005u + 1442695040888963407u;
-    return (double)(*s >> 11) * 0x1p-53;
-}
-
-static lc_vec3 rand_unit(uint64_t *s)
-{
-    for (;;) {
-        lc_vec3 a = v3(2 * lcg(s) - 1, 2 * lcg(s) - 1, 2 * lcg(s) - 1);
-        double l = v3_dot(a, a);
-        if (l <= 1 && l > 1e-4)
-            return v3_mul(a, 1 / sqrt(l));
-    }
-}
 
 static lc_transform rotate(lc_vec3 axis, double deg)
 {

@@ -12,12 +12,7 @@
 #include <string.h>
 #include <cmocka.h>
 #include "scene.h"
-
-static ray mkray(lc_vec3 o, lc_vec3 d)
-{
-    ray r = {o, v3_norm(d)};
-    return r;
-}
+#include "helpers.h"
 
 /* One shape prepared as the scene would: checked, then its geometry. */
 static placed_geom prepare(lc_shape s)
@@ -56,7 +51,7 @@ static int hit_of(lc_shape_kind k, const placed_geom *g, ray r, hit *h)
 static void expect(lc_shape s, lc_vec3 o, lc_vec3 d, double t, lc_vec3 n, const char *what)
 {
     placed_geom g = prepare(s);
-    ray r = mkray(o, d);
+    ray r = mkray_unit(o, d);
     hit h;
     double dt = t_of(s.kind, &g, r);
     int ok = hit_of(s.kind, &g, r, &h);
@@ -142,12 +137,12 @@ static void tangents_and_grazing(void **state)
         for (int i = -200; i <= 200; i++) {
             double e = i * 1e-15;
             ray rays[] = {
-                mkray(v3(-5, 1 + e, 1), v3(1, 0, 0)),      /* tangent to the side */
-                mkray(v3(-5, 0, 2 + e), v3(1, 0, 0)),      /* along the top rim */
-                mkray(v3(-5, 2.5 + e, 0), v3(1, 0, 0)),    /* the torus's outer equator */
-                mkray(v3(-5, 0, 0.5 + e), v3(1, 0, 0)),    /* the torus's top, edge-on */
-                mkray(v3(1 + e, 0, -5), v3(0, 0, 1)),      /* along the side */
-                mkray(v3(0, 0, -5), v3(e, 0, 1)),          /* along the axis */
+                mkray_unit(v3(-5, 1 + e, 1), v3(1, 0, 0)),   /* tangent to the side */
+                mkray_unit(v3(-5, 0, 2 + e), v3(1, 0, 0)),   /* along the top rim */
+                mkray_unit(v3(-5, 2.5 + e, 0), v3(1, 0, 0)), /* torus: outer equator */
+                mkray_unit(v3(-5, 0, 0.5 + e), v3(1, 0, 0)), /* torus: top, edge-on */
+                mkray_unit(v3(1 + e, 0, -5), v3(0, 0, 1)),   /* along the side */
+                mkray_unit(v3(0, 0, -5), v3(e, 0, 1)),       /* along the axis */
             };
             for (size_t j = 0; j < sizeof rays / sizeof *rays; j++) {
                 hit h;
@@ -237,7 +232,7 @@ static void spawned_rays_never_return(void **state)
             for (int i = 0; i < rays; i++) {
                 lc_vec3 q = surface_point(kind, &g);
                 lc_vec3 from = v3_madd(q, unit_random(), 5 * s);
-                ray r = mkray(from, v3_sub(q, from));
+                ray r = mkray_unit(from, v3_sub(q, from));
                 hit h;
                 if (!hit_of(kind, &g, r, &h))
                     continue;
@@ -327,7 +322,7 @@ static void torus_roots_match_the_reference(void **state)
         double rad = minor * (i % 4 == 0 ? 1 + pow(10, -9 + 6 * uniform()) : uniform());
         lc_vec3 q = v3((1 + rad * cos(ph)) * cos(th), (1 + rad * cos(ph)) * sin(th),
                        rad * sin(ph));
-        ray r = mkray(from, v3_sub(q, from));
+        ray r = mkray_unit(from, v3_sub(q, from));
         double roots[4];
         int n = torus_roots(minor, &r, 1e-9, 10, roots);
         long double ref = reference_root(minor, &r, 1e-9, 10, 4000);

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <cmocka.h>
 #include "lancer.h"
+#include "helpers.h"
 
 #define PI 3.14159265358979323846
 
@@ -38,12 +39,6 @@ static lc_ray_hit cast(lc_scene *s, lc_vec3 o, lc_vec3 d)
     if (lc_scene_intersect(s, &r, 1, &h, &err))
         fail_msg("%s", err.msg);
     return h;
-}
-
-static void near(double got, double want, double tol, const char *what)
-{
-    if (!(fabs(got - want) <= tol))
-        fail_msg("%s: got %.17g, want %.17g", what, got, want);
 }
 
 /* A unit sphere seen along every axis: t, point, normal exact; longitude

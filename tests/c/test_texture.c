@@ -10,6 +10,7 @@
 #include <string.h>
 #include <cmocka.h>
 #include "lancer.h"
+#include "helpers.h"
 
 #define PI 3.14159265358979323846
 
@@ -35,12 +36,6 @@ static void same(lc_color c, lc_color want, const char *what)
     if (c.r != want.r || c.g != want.g || c.b != want.b)
         fail_msg("%s: got (%.9g, %.9g, %.9g), want (%.9g, %.9g, %.9g)", what, c.r, c.g, c.b,
                  want.r, want.g, want.b);
-}
-
-static void near(double got, double want, double tol, const char *what)
-{
-    if (!(fabs(got - want) <= tol))
-        fail_msg("%s: got %.17g, want %.17g", what, got, want);
 }
 
 static void checker_and_stripes(void **state)

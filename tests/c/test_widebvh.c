@@ -15,6 +15,7 @@
 #include "scene.h"
 #include "triangle4.h"
 #include "bvh_packet.h"
+#include "helpers.h"
 
 #define M_PI 3.14159265358979323846
 #define RANDOM_RAYS      100000
@@ -24,18 +25,13 @@ static uint64_t rng_state = 2718281828u;
 
 static double rnd(void)          /* deterministic, [0, 1) */
 {
-    rng_state = rng_state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
+    return lcg(&rng_state);
 }
 
 static double range(double a, double b) { return a + (b - a) * rnd(); }
 static lc_vec3 rvec(double a, double b) { return v3(range(a, b), range(a, b), range(a, b)); }
 
-static lc_vec3 random_dir(void)
-{
-    double z = 2 * rnd() - 1, a = 2 * M_PI * rnd(), r = sqrt(1 - z * z);
-    return v3(r * cos(a), r * sin(a), z);
-}
+static lc_vec3 random_dir(void) { return rand_sphere_dir(&rng_state); }
 
 /* ---- a scene with every primitive kind ------------------------------------------ */
 
