@@ -273,7 +273,8 @@ $(BUILD)/fuzz_lua: tests/fuzz/lua/fuzz_lua.c $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	    $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(LUA_LIBS) $(PNG_LIBS) $(EXR_LIBS) $(STB_LIBS) -lm -pthread
 endif
 
-# The peers' files, images and results.md land in out/bench/ (tools/bench/).
+# The peers' files and images land in out/bench/ (tools/bench/), the report
+# in out/bench/results.md.
 # The naive build prices the robust code (tools/bench/robust.lua), the
 # minimal one the full shading (tools/bench/parity.lua).
 bench: all $(BUILD)/bin/lc-runstat
