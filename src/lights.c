@@ -1,6 +1,6 @@
 /* lights.c: spot and directional lights: defaults, checks, what a scene
 ** stores of them, and a spot's cone. Their loops at a hit are in
-** shade_lights.h, beside the point lights'. */
+** light_spot.h and light_sun.h, beside the point lights' light_point.h. */
 #include "error.h"
 #include "lights.h"
 #include "validate.h"

@@ -12,6 +12,7 @@
 #include "image.h"
 #include "interrupt.h"
 #include "rng.h"
+#include "path.h"
 #include "shade.h"
 #include "clock.h"
 #include "mem.h"
@@ -126,6 +127,9 @@ static radiance camera_sample(const job *j, tracer *t, int x, int y, uint32_t s,
         }
         ++*hits;
     }
+    /* The integrator: the path tracer for light that bounces, else the seed's. */
+    if (t->needs & LC_NEED_INDIRECT)
+        return path_ray(t, &r, s, n);
     return shade_ray(t, &r, s, n);
 }
 

@@ -1,23 +1,52 @@
 /* shade.c: the seed's shading model (Phong with recursive mirrors) and
 ** dielectrics along a path: the loop over bounces, the branches a
-** dielectric leaves it, the glossy split. The light loops are in
-** shade_lights.h, explain's recorder in explain.c, the media in media.h. */
+** dielectric leaves it, the glossy split. The lights are light.h's (its
+** LIGHT_SEED sums), explain's recorder in explain.c, the media in media.h. */
 #include "dielectric.h"
+#include "light.h"
 #include "shade.h"
 #include "surface.h"
-#include "shade_lights.h"
 #include "sky.h"
 
-/* Every light loop at a hit of a scene with glass that shadow rays cross,
-** or with spot or directional lights (LIGHTS_APART), out of the path loop. */
+/* The needs that take the light loops out of line. */
+#define LIGHTS_APART (LC_NEED_FILTER | LC_NEED_SPOT | LC_NEED_SUN)
+
+/* The seed's gathering of the lights at a hit into sum. */
+ALWAYS_INLINE light_gather seed_gather(const lc_material *m, unsigned plan, lc_vec3 n,
+                                       lc_vec3 v, uint32_t index, uint32_t count,
+                                       int depth, light_sum *sum, ray_log *lg)
+{
+    light_gather g;
+    g.use = LIGHT_SEED;
+    g.how = 0;
+    g.lg = lg;
+    g.n = n;
+    g.index = index;
+    g.count = count;
+    g.depth = depth;
+    g.m = m;
+    g.plan = plan;
+    g.v = v;
+    g.sum = sum;
+    return g;
+}
+
+/* Every light at a hit of a scene with glass that shadow rays cross, or
+** with spot or directional lights (LIGHTS_APART), out of the path loop, so
+** the loops of opaque scenes with point lights and emitters stay as they
+** were (one test of the needs reaches here, the one glass took before).
+** The filter is a constant in each of its two copies. */
 NEVER_INLINE void lights_apart(tracer *t, const hit *h, const lc_material *m,
                                unsigned plan, lc_vec3 n, lc_vec3 v, uint32_t index,
                                uint32_t count, int depth, light_sum *sum, ray_log *lg)
 {
-    if (t->needs & LC_NEED_FILTER)
-        lights_all(t, h, m, plan, n, v, index, count, depth, sum, 1, lg);
-    else
-        lights_all(t, h, m, plan, n, v, index, count, depth, sum, 0, lg);
+    light_gather g = seed_gather(m, plan, n, v, index, count, depth, sum, lg);
+    if (t->needs & LC_NEED_FILTER) {
+        g.how = SHADOW_FILTER;
+        light_all(t, h, &g);
+    } else {
+        light_all(t, h, &g);
+    }
 }
 
 /* Where a path stands in the pixel's sample set: camera sample `index` of
@@ -65,7 +94,7 @@ static double cone_sample(tracer *t, const lc_material *m, lc_vec3 a, lc_vec3 n,
 static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radiance w,
                            int rec, const media *md);
 /* The needs that take a path off trace_opaque (trace_special). */
-#define TRACE_SPECIAL (LC_NEED_REFRACT | LC_NEED_AO | LC_NEED_INDIRECT | TRACE_AOV)
+#define TRACE_SPECIAL (LC_NEED_REFRACT | LC_NEED_AO | TRACE_AOV)
 /* The needs without which trace_diffuse's loop draws an opaque scene. */
 #define MIRRORS (LC_NEED_SPECULAR | LC_NEED_REFLECT | LC_NEED_GLOSSY)
 
@@ -337,13 +366,14 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
                 t->media = &md;
                 lights_apart(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth, &sum, lg);
             } else {
+                light_gather g = seed_gather(m, plan, n, v, pa.index, pa.count, pa.depth,
+                                             &sum, lg);
                 if (t->needs & LC_NEED_SHADOW)
-                    point_lights(t, &h, m, plan, n, v, &sum, 0, lg);
+                    light_points(t, &h, &g);
                 if (t->needs & LC_NEED_EMITTER)
-                    emitters(t, &h, m, plan, n, v, &sum, 0, lg);
+                    light_emitter_centres(t, &h, &g);
                 if (t->needs & LC_NEED_AREA)
-                    area_lights(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth,
-                                &sum, 0, lg);
+                    light_emitters(t, &h, &g, (uint32_t)t->light_samples);
             }
         }
 
@@ -501,19 +531,16 @@ static radiance trace_aov(tracer *t, const ray *r0, path pa, int split, radiance
     return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 0, 1, 1);
 }
 
-/* The scenes with glass, ambient occlusion, light that bounces or AOVs
-** share the one test of the needs that glass took before, so an opaque
-** scene's path to trace_opaque is what it was. A camera path with AOVs
+/* The scenes with glass, ambient occlusion or AOVs share the one test of
+** the needs that glass took before, so an opaque scene's path to
+** trace_opaque is what it was (light that bounces is path.c's: render.c
+** sends it there). A camera path with AOVs
 ** goes to the recording variants; the sub-paths it splits into (depth > 0)
 ** to the plain ones, what they bring back counted by their caller. */
 NEVER_INLINE radiance trace_special(tracer *t, const ray *r0, path pa, int split,
                                     radiance w, int rec, const media *md)
 {
-    int camera = (t->needs & TRACE_AOV) && pa.depth == 0;
-    if (t->needs & LC_NEED_INDIRECT)
-        return camera ? path_radiance_aov(t, r0, pa.index, pa.count)
-                      : path_radiance(t, r0, pa.index, pa.count, rec);
-    if (camera)
+    if ((t->needs & TRACE_AOV) && pa.depth == 0)
         return trace_aov(t, r0, pa, split, w, rec, md);
     if (t->needs & LC_NEED_AO)
         return trace_ao(t, r0, pa, split, w, rec, md);
@@ -526,8 +553,7 @@ static radiance trace_path(tracer *t, const ray *r0, path pa, int split, radianc
                            int rec, const media *md)
 {
     if (t->log)
-        return t->needs & LC_NEED_INDIRECT ? path_radiance(t, r0, pa.index, pa.count, rec)
-                                           : trace_explain(t, r0, pa, split, w, rec, md);
+        return trace_explain(t, r0, pa, split, w, rec, md);
     if (t->needs & TRACE_SPECIAL)
         return trace_special(t, r0, pa, split, w, rec, md);
     if (!(t->needs & MIRRORS))

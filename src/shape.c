@@ -268,3 +268,22 @@ int shape_light_sample(lc_shape_kind k, const void *geom, const light_setup *ls,
     default: return ellipsoid_light_sample(geom, p, u, S, out);
     }
 }
+
+double shape_light_pdf(lc_shape_kind k, const void *geom, lc_vec3 p, lc_vec3 n, lc_vec3 d,
+                       double dist)
+{
+    light_setup ls;
+    if (!shape_light_mis(k))
+        return -1;
+    if (!shape_light_begin(k, geom, p, n, &ls))
+        return 0;
+    if (k == LC_SPHERE)
+        return 1 / ls.sphere.solid;
+    double c = fabs(v3_dot(((const quad_geom *)geom)->un, d));
+    return c > 0 ? dist * dist / (ls.quad.area * c) : 0;
+}
+
+int shape_light_mis(lc_shape_kind k)
+{
+    return k == LC_SPHERE || k == LC_QUAD;
+}

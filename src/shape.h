@@ -436,6 +436,13 @@ int       shape_light_begin(lc_shape_kind k, const void *geom, lc_vec3 p, lc_vec
                             light_setup *ls);
 int       shape_light_sample(lc_shape_kind k, const void *geom, const light_setup *ls,
                              lc_vec3 p, const double u[2], uint32_t S, light_sample *out);
+/* For MIS with BSDF sampling: the density a sample of S = 1 gave direction
+** d from p (normal n) to the point at distance dist on the shape, -1 where
+** the kind's density is not known (shape_light_mis 0: its samples take all
+** the weight). */
+double    shape_light_pdf(lc_shape_kind k, const void *geom, lc_vec3 p, lc_vec3 n,
+                          lc_vec3 d, double dist);
+int       shape_light_mis(lc_shape_kind k);
 
 /* ---- A scene's shapes of one kind ----------------------------------------------------- */
 
