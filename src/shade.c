@@ -279,6 +279,172 @@ NEVER_INLINE int no_interface(const lc_scene *s, const media *md, const hit *h,
                         &n2);
 }
 
+/* The variants of trace_loop: bits, each a constant in its caller. */
+typedef enum {
+    LOOP_GLASS  = 1,       /* dielectrics and media (LC_NEED_REFRACT) */
+    LOOP_LOG    = 2,       /* explain's records */
+    LOOP_AO     = 4,       /* ambient occlusion probes */
+    LOOP_AOV    = 8,       /* a camera sample's AOVs (TRACE_AOV) */
+    LOOP_MIRROR = 16       /* highlights, mirrors, cones (MIRRORS) */
+} loop_flags;
+
+/* A ray that left the scene: the background (or sky) it brings, w after
+** the medium it was in. */
+ALWAYS_INLINE radiance trace_miss(tracer *t, const ray *r, radiance w, const media *md,
+                                  int rec, int cls, unsigned flags)
+{
+    const lc_scene *s = t->scene;
+    if ((flags & LOOP_GLASS) && md->n)   /* inside a medium: nothing comes from infinity */
+        w = media_absorb(s, md, w, HUGE_VAL);
+    radiance bg = r_mul(w, t->needs & LC_NEED_SKY ? sky_radiance(s, r->d)
+                                                  : rad(s->settings.background));
+    if ((flags & LOOP_LOG) && rec >= 0) {
+        explain_hit(t->log, s, rec, NULL, r->d, w);
+        explain_add(t->log, rec, bg);
+    }
+    if (flags & LOOP_AOV)
+        aov_add(t->aov, cls, bg);
+    return bg;
+}
+
+/* The lights at hit h into *sum: the opaque scenes' loops inline, the
+** rest apart (LIGHTS_APART). The light loops' explain record lg is NULL,
+** a constant, unless explaining, so a render runs none of their recording
+** tests (S7: 1 % of the trace). */
+ALWAYS_INLINE void trace_lights(tracer *t, const hit *h, const lc_material *m,
+                                unsigned plan, lc_vec3 n, lc_vec3 v, const path *pa,
+                                const media *md, light_sum *sum, ray_log *lg)
+{
+    if (t->needs & LIGHTS_APART) {
+        t->media = md;
+        lights_apart(t, h, m, plan, n, v, pa->index, pa->count, pa->depth, sum, lg);
+        return;
+    }
+    light_gather g = seed_gather(m, plan, n, v, pa->index, pa->count, pa->depth, sum, lg);
+    if (t->needs & LC_NEED_SHADOW)
+        light_points(t, h, &g);
+    if (t->needs & LC_NEED_EMITTER)
+        light_emitter_centres(t, h, &g);
+    if (t->needs & LC_NEED_AREA)
+        light_emitters(t, h, &g, (uint32_t)t->light_samples);
+}
+
+/* The seed's Phong at hit h of material m (plan its steps): the lights,
+** ambient, highlights and emission, times the path's weight w; recorded
+** for explain and the AOVs (cls: the path's class). */
+ALWAYS_INLINE radiance trace_local(tracer *t, const hit *h, const lc_material *m,
+                                   unsigned plan, lc_vec3 n, lc_vec3 v, const path *pa,
+                                   radiance w, const media *md, int rec, int cls,
+                                   unsigned flags)
+{
+    const lc_scene *s = t->scene;
+    light_sum sum = {{0, 0, 0}, {0, 0, 0}};
+    if (plan & PLAN_LIGHTS)
+        trace_lights(t, h, m, plan, n, v, pa, md, &sum, flags & LOOP_LOG ? t->log : NULL);
+    radiance base = r_scale(sum.diffuse, m->kd);             /* kd Cd */
+    if (plan & PLAN_AMBIENT) {
+        radiance amb = r_scale(rad(s->settings.ambient), m->ka);
+        if ((flags & LOOP_AO) && (plan & PLAN_AO))
+            amb = r_scale(amb, ambient_open(t, h, n, pa));
+        base = r_add(base, amb);
+    }
+    /* Without highlights sum.specular is 0 and adding it changes no bit
+    ** (base has no -0): a diffuse hit skips the sum, as it skips the
+    ** weight of the reflection it does not trace (S7's parity). */
+    int specular = (plan & PLAN_SPECULAR) != 0;
+    radiance local, color = rad(m->color);
+    if (m->absorb == LC_ABSORB_ALL)       /* the seed: absorption after the sum */
+        local = r_mul(color, specular ? r_add(base, r_scale(sum.specular, m->ks)) : base);
+    else if (specular)                                    /* ks H^a Cs */
+        local = r_add(r_mul(color, base), r_scale(sum.specular, m->ks));
+    else
+        local = r_mul(color, base);
+    radiance lit = local;
+    if (plan & PLAN_EMITS)
+        local = r_add(local, rad(m->emission));
+    radiance own = r_mul(w, local);
+    if ((flags & LOOP_LOG) && rec >= 0)
+        explain_add(t->log, rec, own);
+    if ((flags & LOOP_AOV) && cls != AOV_CAMERA) {
+        aov_add(t->aov, cls, own);
+    } else if (flags & LOOP_AOV) {
+        aov_add(t->aov, AOV_DIRECT, r_mul(w, lit));
+        if (plan & PLAN_EMITS)
+            aov_add(t->aov, AOV_EMISSION, r_mul(w, rad(m->emission)));
+    }
+    return own;
+}
+
+/* A dielectric's bounce (dielectric_bounce) with the AOV classes of the
+** branches it leaves; what a glossy split brought into *acc. Returns 0 when
+** the path ends, else 1 with *go the branch to follow. */
+ALWAYS_INLINE int trace_dielectric(tracer *t, const hit *h, const lc_material *m,
+                                   unsigned plan, const ray *r, lc_vec3 n, radiance w,
+                                   const path *pa, int split, int rec, const media *md,
+                                   int *cls, radiance *acc, branch *go, unsigned flags)
+{
+    radiance add = {0, 0, 0};
+    int before = t->npending;
+    int on = dielectric_bounce(t, h, m, plan, r, n, w, pa, split, rec, md, &add, go);
+    *acc = r_add(*acc, add);
+    if (flags & LOOP_AOV) {
+        aov_add(t->aov, *cls == AOV_CAMERA ? AOV_REFLECTION : *cls, add);
+        for (int k = before; k < t->npending; k++)
+            t->pending_cls[k] = (signed char)(*cls == AOV_CAMERA ?
+                aov_class(h, r, t->pending[k].r.d) : *cls);
+        if (on && *cls == AOV_CAMERA)
+            *cls = aov_class(h, r, go->r.d);
+    }
+    return on;
+}
+
+/* A mirror or glossy bounce (kr) off h: the first glossy hit of a path
+** that has not split splits (what the sub-paths bring into *acc); else the
+** loop goes on along *r, of weight *w. Returns 0 when the path ends. */
+ALWAYS_INLINE int trace_reflect(tracer *t, const hit *h, const lc_material *m,
+                                unsigned plan, lc_vec3 n, int split, ray *r, radiance *w,
+                                path *pa, int *rec, int *cls, const media *md,
+                                radiance *acc, unsigned flags)
+{
+    radiance next = m->absorb == LC_ABSORB_ALL ? r_scale(r_mul(*w, rad(m->color)), m->kr)
+                                               : r_scale(*w, m->kr);
+    /* Adaptive depth (POV-Ray's adc_bailout): a bounce that can add at
+    ** most cutoff times what it sees is not traced. */
+    if (r_max(next) < t->cutoff) {
+        t->rays[LC_RAY_CUT]++;
+        return 0;
+    }
+    lc_vec3 rd = v3_madd(r->d, n, -2 * v3_dot(r->d, n));     /* kr Cr */
+    lc_ray_kind kind = LC_RAY_REFLECTION;
+    if (plan & PLAN_GLOSSY) {
+        lc_vec3 axis = v3_norm(rd);
+        if (!split) {
+            radiance g = glossy_split(t, h, m, n, axis, pa, next, *rec, md);
+            *acc = r_add(*acc, g);
+            if (flags & LOOP_AOV)
+                aov_add(t->aov, *cls == AOV_CAMERA ? AOV_REFLECTION : *cls, g);
+            return 0;
+        }
+        /* After the split, one cone ray per bounce, at the path's own place. */
+        if (!(cone_sample(t, m, axis, n, pa->depth, pa->index, pa->count, &rd) > 0))
+            return 0;
+        kind = LC_RAY_GLOSSY;
+    }
+    r->o = spawn_origin(h, rd);
+    r->d = v3_norm(rd);
+    t->rays[kind]++;
+    pa->from = h->shape;
+    pa->from_instance = h->instance;
+    pa->watch = cannot_return(h, rd);
+    *w = next;
+    pa->depth++;
+    if ((flags & LOOP_AOV) && *cls == AOV_CAMERA)
+        *cls = AOV_REFLECTION;
+    if ((flags & LOOP_LOG) && *rec >= 0)
+        *rec = explain_ray(t->log, *rec, kind, r);
+    return 1;
+}
+
 /* One path: a loop over bounces, so any max_depth costs no stack. Mirror
 ** bounces go on in the loop (and single cone rays once the path has split);
 ** the first glossy hit splits into M sub-paths, each a call of this (which
@@ -290,61 +456,46 @@ NEVER_INLINE int no_interface(const lc_scene *s, const media *md, const hit *h,
 ** for absorb = 'all' (the seed) the weight includes the colour: colour *
 ** (... + kr * Cr) expands to that. w: the path's weight in the pixel; rec:
 ** its first ray's explain record (-1 while rendering); md: the media its
-** first ray is in. Compiled several ways (glass, log, ao, aov and mirror
-** are constants, see trace_path): a scene without glass runs none of the
-** glass code, a render none of explain's, not even their tests, and with
-** mirror 0 (no highlights, mirrors or cones: MIRRORS) a diffuse scene none
-** of theirs (S7: 1 440.6M -> 1 429.8M instructions, the same bits). With
-** aov (a camera sample's path, TRACE_AOV), each bounce's light also goes
-** to t->aov by its class: the first hit's own to direct and emission, the
-** rest to the class of the first hit's branch it came by (shade.h; the
-** sums are the same). */
+** first ray is in. Compiled several ways (flags, LOOP_* constants, see
+** trace_path): a scene without glass runs none of the glass code, a render
+** none of explain's, not even their tests, and without LOOP_MIRROR (no
+** highlights, mirrors or cones: MIRRORS) a diffuse scene none of theirs
+** (S7: 1 440.6M -> 1 429.8M instructions, the same bits). With LOOP_AOV
+** (a camera sample's path, TRACE_AOV), each bounce's light also goes to
+** t->aov by its class: the first hit's own to direct and emission, the
+** rest to the class of the first hit's branch it came by (the sums are the
+** same). pa.from, from_instance and watch: the last spawn cannot return to
+** `from`. */
 ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
-                                  radiance w, int rec, const media *md0, int glass,
-                                  int log, int ao, int aov, int mirror)
+                                  radiance w, int rec, const media *md0, unsigned flags)
 {
     const lc_scene *s = t->scene;
+    int glass = (flags & LOOP_GLASS) != 0, log = (flags & LOOP_LOG) != 0;
     ray r = *r0;
     radiance acc = {0, 0, 0};
-    uint32_t from = pa.from, from_instance = pa.from_instance;
-    int watch = pa.watch;      /* the last spawn cannot return to `from` */
     int mine = t->npending;    /* the branches under it are the caller's */
     media md = *md0;
     const branch *b;           /* the branch the loop goes on with */
     branch go;
-    int cls = AOV_CAMERA;      /* aov: the class of the path being followed */
-    /* The light loops' explain record: NULL, a constant, unless explaining,
-    ** so a render runs none of their recording tests (S7: 1 % of the trace). */
-    ray_log *lg = log ? t->log : NULL;
+    int cls = AOV_CAMERA;      /* LOOP_AOV: the class of the path being followed */
     for (;;) {
         hit h;
         if (!intersect_closest(s, &r, HUGE_VAL, &h, &t->counts)) {
-            if (glass && md.n) /* inside a medium: nothing comes from infinity */
-                w = media_absorb(s, &md, w, HUGE_VAL);
-            radiance bg = r_mul(w, t->needs & LC_NEED_SKY ? sky_radiance(s, r.d)
-                                                          : rad(s->settings.background));
-            if (log && rec >= 0) {
-                explain_hit(t->log, s, rec, NULL, r.d, w);
-                explain_add(t->log, rec, bg);
-            }
-            acc = r_add(acc, bg);
-            if (aov)
-                aov_add(t->aov, cls, bg);
+            acc = r_add(acc, trace_miss(t, &r, w, &md, rec, cls, flags));
             goto done;
         }
         if (glass && md.n)     /* inside a medium: what it absorbs on the way */
             w = media_absorb(s, &md, w, h.t);
-        if (watch && h.shape == from && h.instance == from_instance)
+        if (pa.watch && h.shape == pa.from && h.instance == pa.from_instance)
             t->self_hits++;
         const lc_material *m = &s->materials[h.material];
         unsigned plan = t->plan[h.material];
-        if (!mirror)           /* the needs say no material has these bits */
+        if (!(flags & LOOP_MIRROR))    /* the needs say no material has these bits */
             plan &= ~(unsigned)(PLAN_SPECULAR | PLAN_REFLECT | PLAN_GLOSSY);
         lc_material textured;
         if (plan & PLAN_TEXTURED)
             m = surface_material(s, &h, m, &textured);
         lc_vec3 n = v3_dot(h.n, r.d) > 0 ? v3_neg(h.ns) : h.ns;  /* face the viewer */
-        lc_vec3 v = v3_neg(r.d);
         if (glass && (plan & PLAN_REFRACT) && !md.n && v3_dot(r.d, h.n) > 0)
             w = media_adopt(s, &md, (uint32_t)h.material, w, h.t);
         if (glass && (plan & PLAN_REFRACT) && no_interface(s, &md, &h, &r, &go.md)) {
@@ -357,131 +508,37 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
         }
         if (log && rec >= 0)
             explain_hit(t->log, s, rec, &h, n, w);
-        if (aov && cls == AOV_CAMERA)
+        if ((flags & LOOP_AOV) && cls == AOV_CAMERA)
             aov_first_hit(t, &h, m, n);
-
-        light_sum sum = {{0, 0, 0}, {0, 0, 0}};
-        if (plan & PLAN_LIGHTS) {
-            if (t->needs & LIGHTS_APART) {
-                t->media = &md;
-                lights_apart(t, &h, m, plan, n, v, pa.index, pa.count, pa.depth, &sum, lg);
-            } else {
-                light_gather g = seed_gather(m, plan, n, v, pa.index, pa.count, pa.depth,
-                                             &sum, lg);
-                if (t->needs & LC_NEED_SHADOW)
-                    light_points(t, &h, &g);
-                if (t->needs & LC_NEED_EMITTER)
-                    light_emitter_centres(t, &h, &g);
-                if (t->needs & LC_NEED_AREA)
-                    light_emitters(t, &h, &g, (uint32_t)t->light_samples);
-            }
-        }
-
-        radiance base = r_scale(sum.diffuse, m->kd);             /* kd Cd */
-        if (plan & PLAN_AMBIENT) {
-            radiance amb = r_scale(rad(s->settings.ambient), m->ka);
-            if (ao && (plan & PLAN_AO))
-                amb = r_scale(amb, ambient_open(t, &h, n, &pa));
-            base = r_add(base, amb);
-        }
-        /* Without highlights sum.specular is 0 and adding it changes no bit
-        ** (base has no -0): a diffuse hit skips the sum, as it skips the
-        ** weight of the reflection it does not trace (S7's parity). */
-        int specular = (plan & PLAN_SPECULAR) != 0;
-        radiance local, color = rad(m->color);
-        if (m->absorb == LC_ABSORB_ALL)       /* the seed: absorption after the sum */
-            local = r_mul(color, specular ? r_add(base, r_scale(sum.specular, m->ks)) : base);
-        else if (specular)                                    /* ks H^a Cs */
-            local = r_add(r_mul(color, base), r_scale(sum.specular, m->ks));
-        else
-            local = r_mul(color, base);
-        radiance lit = local;
-        if (plan & PLAN_EMITS)
-            local = r_add(local, rad(m->emission));
-        radiance own = r_mul(w, local);
-        if (log && rec >= 0)
-            explain_add(t->log, rec, own);
-        acc = r_add(acc, own);
-        if (aov && cls != AOV_CAMERA) {
-            aov_add(t->aov, cls, own);
-        } else if (aov) {
-            aov_add(t->aov, AOV_DIRECT, r_mul(w, lit));
-            if (plan & PLAN_EMITS)
-                aov_add(t->aov, AOV_EMISSION, r_mul(w, rad(m->emission)));
-        }
+        acc = r_add(acc, trace_local(t, &h, m, plan, n, v3_neg(r.d), &pa, w, &md, rec, cls,
+                                     flags));
         if (!(plan & (PLAN_REFLECT | PLAN_GLOSSY | (glass ? PLAN_REFRACT : 0))) ||
             pa.depth >= t->max_depth)
             goto done;
         if (glass && (plan & PLAN_REFRACT)) {
-            radiance add = {0, 0, 0};
-            int before = t->npending;
-            int on = dielectric_bounce(t, &h, m, plan, &r, n, w, &pa, split, rec, &md,
-                                       &add, &go);
-            acc = r_add(acc, add);
-            if (aov) {
-                aov_add(t->aov, cls == AOV_CAMERA ? AOV_REFLECTION : cls, add);
-                for (int k = before; k < t->npending; k++)
-                    t->pending_cls[k] = (signed char)(cls == AOV_CAMERA ?
-                        aov_class(&h, &r, t->pending[k].r.d) : cls);
-                if (on && cls == AOV_CAMERA)
-                    cls = aov_class(&h, &r, go.r.d);
-            }
-            if (!on)
+            if (!trace_dielectric(t, &h, m, plan, &r, n, w, &pa, split, rec, &md, &cls, &acc,
+                                  &go, flags))
                 goto done;
             b = &go;
             goto follow;
         }
-        radiance next = m->absorb == LC_ABSORB_ALL ? r_scale(r_mul(w, color), m->kr)
-                                                   : r_scale(w, m->kr);
-        /* Adaptive depth (POV-Ray's adc_bailout): a bounce that can add at
-        ** most cutoff times what it sees is not traced. */
-        if (r_max(next) < t->cutoff) {
-            t->rays[LC_RAY_CUT]++;
-            goto done;
-        }
-        lc_vec3 rd = v3_madd(r.d, n, -2 * v3_dot(r.d, n));       /* kr Cr */
-        lc_ray_kind kind = LC_RAY_REFLECTION;
-        if (plan & PLAN_GLOSSY) {
-            lc_vec3 axis = v3_norm(rd);
-            if (!split) {
-                radiance g = glossy_split(t, &h, m, n, axis, &pa, next, rec, &md);
-                acc = r_add(acc, g);
-                if (aov)
-                    aov_add(t->aov, cls == AOV_CAMERA ? AOV_REFLECTION : cls, g);
-                goto done;
-            }
-            /* After the split, one cone ray per bounce, at the path's own place. */
-            if (!(cone_sample(t, m, axis, n, pa.depth, pa.index, pa.count, &rd) > 0))
-                goto done;
-            kind = LC_RAY_GLOSSY;
-        }
-        r.o = spawn_origin(&h, rd);
-        r.d = v3_norm(rd);
-        t->rays[kind]++;
-        from = h.shape;
-        from_instance = h.instance;
-        watch = cannot_return(&h, rd);
-        w = next;
-        pa.depth++;
-        if (aov && cls == AOV_CAMERA)
-            cls = AOV_REFLECTION;
-        if (log && rec >= 0)
-            rec = explain_ray(t->log, rec, kind, &r);
-        continue;
+        if (trace_reflect(t, &h, m, plan, n, split, &r, &w, &pa, &rec, &cls, &md, &acc,
+                          flags))
+            continue;
     done:
         if (!glass || t->npending == mine)
             break;
         b = &t->pending[--t->npending];
-        if (aov)
+        if (flags & LOOP_AOV)
             cls = t->pending_cls[t->npending];
     follow:
         r = b->r;
         w = b->w;
         pa.depth = b->depth;
-        watch = b->watch;
+        pa.watch = b->watch;
         rec = b->rec;
-        from = b->from;
-        from_instance = b->from_instance;
+        pa.from = b->from;
+        pa.from_instance = b->from_instance;
         md = b->md;
     }
     return acc;
@@ -490,7 +547,7 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
 static radiance trace_opaque(tracer *t, const ray *r0, path pa, int split, radiance w,
                              int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 0, 0, 0, 0, 1);
+    return trace_loop(t, r0, pa, split, w, rec, md, LOOP_MIRROR);
 }
 
 /* An opaque scene where no material has highlights, mirrors or cones
@@ -499,26 +556,27 @@ static radiance trace_opaque(tracer *t, const ray *r0, path pa, int split, radia
 static radiance trace_diffuse(tracer *t, const ray *r0, path pa, int split, radiance w,
                               int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 0, 0, 0, 0, 0);
+    return trace_loop(t, r0, pa, split, w, rec, md, 0);
 }
 
 static radiance trace_glass(tracer *t, const ray *r0, path pa, int split, radiance w,
                             int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 0, 0, 1);
+    return trace_loop(t, r0, pa, split, w, rec, md, LOOP_GLASS | LOOP_MIRROR);
 }
 
 /* Ambient occlusion, glass or not (the glass code is behind plan bits). */
 static radiance trace_ao(tracer *t, const ray *r0, path pa, int split, radiance w,
                          int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 1, 0, 1);
+    return trace_loop(t, r0, pa, split, w, rec, md, LOOP_GLASS | LOOP_AO | LOOP_MIRROR);
 }
 
 static radiance trace_explain(tracer *t, const ray *r0, path pa, int split, radiance w,
                               int rec, const media *md)
 {
-    return trace_loop(t, r0, pa, split, w, rec, md, 1, 1, 1, 0, 1);
+    return trace_loop(t, r0, pa, split, w, rec, md,
+                      LOOP_GLASS | LOOP_LOG | LOOP_AO | LOOP_MIRROR);
 }
 
 /* A camera sample's path with its AOVs recorded (glass and ambient
@@ -527,8 +585,9 @@ static radiance trace_aov(tracer *t, const ray *r0, path pa, int split, radiance
                           int rec, const media *md)
 {
     if (t->needs & LC_NEED_AO)
-        return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 1, 1, 1);
-    return trace_loop(t, r0, pa, split, w, rec, md, 1, 0, 0, 1, 1);
+        return trace_loop(t, r0, pa, split, w, rec, md,
+                          LOOP_GLASS | LOOP_AO | LOOP_AOV | LOOP_MIRROR);
+    return trace_loop(t, r0, pa, split, w, rec, md, LOOP_GLASS | LOOP_AOV | LOOP_MIRROR);
 }
 
 /* The scenes with glass, ambient occlusion or AOVs share the one test of
