@@ -468,6 +468,149 @@ static void gather(const job *j, const worker *ws, int nt, int threads, double t
     warn(s, j->img, st);
 }
 
+/* The frame's pixels the image holds (the region, or all of it) and those
+** traced: the region with adaptive sampling's margin around it. */
+static void job_frame(job *j, const lc_render_options *o)
+{
+    j->x1 = o->width;
+    j->y1 = o->height;
+    if (o->region[0] | o->region[1] | o->region[2] | o->region[3]) {
+        j->x0 = o->region[0];
+        j->y0 = o->region[1];
+        j->x1 = o->region[2];
+        j->y1 = o->region[3];
+    }
+    int margin = adaptive_margin(o);
+    j->ex0 = j->x0 - margin > 0 ? j->x0 - margin : 0;
+    j->ey0 = j->y0 - margin > 0 ? j->y0 - margin : 0;
+    j->ew = (j->x1 + margin < o->width ? j->x1 + margin : o->width) - j->ex0;
+    j->eh = (j->y1 + margin < o->height ? j->y1 + margin : o->height) - j->ey0;
+}
+
+/* The image (window, alpha, AOVs) and the per-pixel buffers of adaptive
+** and progressive renders, into j; NULL (nothing left allocated) when out
+** of memory. */
+static lc_image *job_image(job *j, const lc_render_options *o, lc_error *err)
+{
+    lc_image *img = lc_image_new(j->x1 - j->x0, j->y1 - j->y0, err);
+    if (!img)
+        return NULL;
+    lc_window win = {j->x0, j->y0, o->width, o->height};
+    if (lc_image_set_window(img, win, err) || (o->alpha && lc_image_add_alpha(img, err)) ||
+        (o->aovs && aov_images_new(img, o->aovs, err))) {
+        lc_image_free(img);
+        return NULL;
+    }
+    if (o->alpha && (o->noise > 0 || o->progressive)) {
+        j->hits = mem_calloc((size_t)j->ew * j->eh, sizeof *j->hits);
+        if (!j->hits) {
+            lc_image_free(img);
+            error_fail(err, LC_ENOMEM, NULL, "out of memory for the alpha of %dx%d pixels",
+                       j->ew, j->eh);
+            return NULL;
+        }
+    }
+    if (o->progressive && !(o->noise > 0)) {
+        j->acc = mem_calloc((size_t)j->ew * j->eh, 3 * sizeof *j->acc);
+        if (!j->acc) {
+            mem_free(j->hits);
+            lc_image_free(img);
+            error_fail(err, LC_ENOMEM, NULL, "out of memory for the sums of a progressive "
+                       "render of %dx%d pixels", j->ew, j->eh);
+            return NULL;
+        }
+    }
+    return img;
+}
+
+/* The number of threads to trace with: o->threads, or one per core, at
+** most one per tile. */
+static int job_threads(const job *j, const lc_render_options *o)
+{
+    int nt = o->threads;
+    if (nt == 0) {
+        long nc = sysconf(_SC_NPROCESSORS_ONLN);
+        nt = nc < 1 ? 1 : nc > LC_MAX_THREADS ? LC_MAX_THREADS : (int)nc;
+    }
+    return nt > j->ntiles ? j->ntiles : nt;
+}
+
+static void workers_free(worker *ws, int nt)
+{
+    for (int i = 0; i < nt; i++)
+        mem_free(ws[i].objects), mem_free(ws[i].materials);
+    mem_free(ws);
+}
+
+/* nt workers, each with its tracer and room for the AOVs' ids; NULL when
+** out of memory. */
+static worker *workers_new(lc_scene *s, const lc_render_options *o, int nt, lc_error *err)
+{
+    worker *ws = mem_calloc((size_t)nt, sizeof *ws);
+    if (!ws) {
+        error_fail(err, LC_ENOMEM, NULL, "out of memory starting %d threads", nt);
+        return NULL;
+    }
+    int room = 1;
+    for (int i = 0; i < nt; i++) {
+        tracer_init(&ws[i].t, s, o);
+        if (o->aovs)
+            room &= aov_room((uint32_t)o->samples, &ws[i].objects, &ws[i].materials);
+    }
+    if (!room) {
+        workers_free(ws, nt);
+        error_fail(err, LC_ENOMEM, NULL, "out of memory for the AOVs' ids of %d samples",
+                   o->samples);
+        return NULL;
+    }
+    return ws;
+}
+
+/* Every pass of the render: one, the adaptive passes, or the progressive
+** ones (1, 2, 4, ... samples in all, then max), each followed by on_pass;
+** the statistics into *sum. t0, t1: the start and the compile's end. */
+static void run_passes(job *j, worker *ws, int nt, adaptive *ad, double t0, double t1,
+                       lc_stats *sum)
+{
+    const lc_render_options *o = j->o;
+    uint32_t max = (uint32_t)o->samples;
+    int npasses = j->adaptive ? adaptive_passes(ad) : 1, threads = 0;
+    memset(sum, 0, sizeof *sum);
+    j->share = 1;
+    for (;;) {
+        if (j->acc) {
+            /* Progress by samples' worth. */
+            j->from = j->to;
+            j->to = j->to == 0 ? 1 : j->to > max / 2 ? max : 2 * j->to;
+            j->base = (double)j->from / max;
+            j->share = (double)(j->to - j->from) / max;
+        } else if (j->adaptive) {
+            j->share = 1.0 / npasses;             /* adaptive: by passes */
+        }
+        threads = run_pass(j, ws, nt);
+        sum->passes++;
+        if (j->cancel)
+            break;
+        /* adaptive_next only marks the pixels that go on: the image stays. */
+        int more = j->adaptive ? adaptive_next(ad) : j->acc && j->to < max;
+        if (o->on_pass) {
+            gather(j, ws, nt, threads, t0, t1, sum);
+            if (o->on_pass(o->on_pass_ud, j->img, sum->passes, sum)) {
+                sum->stopped = more;              /* after the last pass: it finished */
+                break;
+            }
+            if (interrupt_count() != j->interrupts_seen) {
+                j->cancel = 1;                    /* a Ctrl-C during the callback */
+                break;
+            }
+        }
+        if (!more)
+            break;
+        j->base += j->adaptive ? j->share : 0;
+    }
+    gather(j, ws, nt, threads, t0, t1, sum);
+}
+
 static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats *st,
                                lc_error *err)
 {
@@ -486,50 +629,10 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
     double t1 = clock_seconds();
     job j;
     memset(&j, 0, sizeof j);
-    j.x1 = o->width;
-    j.y1 = o->height;
-    if (o->region[0] | o->region[1] | o->region[2] | o->region[3]) {
-        j.x0 = o->region[0];
-        j.y0 = o->region[1];
-        j.x1 = o->region[2];
-        j.y1 = o->region[3];
-    }
-    int margin = adaptive_margin(o);
-    j.ex0 = j.x0 - margin > 0 ? j.x0 - margin : 0;
-    j.ey0 = j.y0 - margin > 0 ? j.y0 - margin : 0;
-    j.ew = (j.x1 + margin < o->width ? j.x1 + margin : o->width) - j.ex0;
-    j.eh = (j.y1 + margin < o->height ? j.y1 + margin : o->height) - j.ey0;
-    lc_image *img = lc_image_new(j.x1 - j.x0, j.y1 - j.y0, err);
+    job_frame(&j, o);
+    lc_image *img = job_image(&j, o, err);
     if (!img)
         return NULL;
-    lc_window win = {j.x0, j.y0, o->width, o->height};
-    if (lc_image_set_window(img, win, err) || (o->alpha && lc_image_add_alpha(img, err))) {
-        lc_image_free(img);
-        return NULL;
-    }
-    if (o->aovs && aov_images_new(img, o->aovs, err)) {
-        lc_image_free(img);
-        return NULL;
-    }
-    if (o->alpha && (o->noise > 0 || o->progressive)) {
-        j.hits = mem_calloc((size_t)j.ew * j.eh, sizeof *j.hits);
-        if (!j.hits) {
-            lc_image_free(img);
-            error_fail(err, LC_ENOMEM, NULL, "out of memory for the alpha of %dx%d pixels",
-                       j.ew, j.eh);
-            return NULL;
-        }
-    }
-    if (o->progressive && !(o->noise > 0)) {
-        j.acc = mem_calloc((size_t)j.ew * j.eh, 3 * sizeof *j.acc);
-        if (!j.acc) {
-            mem_free(j.hits);
-            lc_image_free(img);
-            error_fail(err, LC_ENOMEM, NULL, "out of memory for the sums of a progressive "
-                       "render of %dx%d pixels", j.ew, j.eh);
-            return NULL;
-        }
-    }
     j.o = o;
     j.scene = s;
     j.img = img;
@@ -540,41 +643,15 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
     j.random = o->samples > 1 ||
                (s->c.needs & (LC_NEED_AREA | LC_NEED_GLOSSY | LC_NEED_LENS |
                               LC_NEED_INDIRECT | LC_NEED_AO)) != 0;
-    int nt = o->threads;
-    if (nt == 0) {
-        long nc = sysconf(_SC_NPROCESSORS_ONLN);
-        nt = nc < 1 ? 1 : nc > LC_MAX_THREADS ? LC_MAX_THREADS : (int)nc;
-    }
-    if (nt > j.ntiles)
-        nt = j.ntiles;
+    int nt = job_threads(&j, o);
     adaptive ad;
-    worker *ws = mem_calloc((size_t)nt, sizeof *ws);
-    if (!ws)
-        error_fail(err, LC_ENOMEM, NULL, "out of memory starting %d threads", nt);
+    worker *ws = workers_new(s, o, nt, err);
     if (!ws || (o->noise > 0 && adaptive_init(&ad, o, j.ew, j.eh, err))) {
-        mem_free(ws);
+        if (ws)
+            workers_free(ws, nt);
         mem_free(j.hits);
         mem_free(j.acc);
         lc_image_free(img);
-        return NULL;
-    }
-    int room = 1;
-    for (int i = 0; i < nt; i++) {
-        tracer_init(&ws[i].t, s, o);
-        if (o->aovs)
-            room &= aov_room((uint32_t)o->samples, &ws[i].objects, &ws[i].materials);
-    }
-    if (!room) {
-        for (int i = 0; i < nt; i++)
-            mem_free(ws[i].objects), mem_free(ws[i].materials);
-        mem_free(ws);
-        mem_free(j.hits);
-        mem_free(j.acc);
-        if (o->noise > 0)
-            adaptive_free(&ad);
-        lc_image_free(img);
-        error_fail(err, LC_ENOMEM, NULL, "out of memory for the AOVs' ids of %d samples",
-                   o->samples);
         return NULL;
     }
     j.aovs = o->aovs;
@@ -582,56 +659,18 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
     pthread_cond_init(&j.tile_done, NULL);
     if (o->noise > 0)
         j.adaptive = &ad;
-    uint32_t max = (uint32_t)o->samples;
-    int npasses = j.adaptive ? adaptive_passes(&ad) : 1, threads = 0;
     lc_stats sum;
-    memset(&sum, 0, sizeof sum);
-    j.share = 1;
-    for (;;) {
-        if (j.acc) {
-            /* 1, 2, 4, ... samples in all, then max: progress by samples' worth. */
-            j.from = j.to;
-            j.to = j.to == 0 ? 1 : j.to > max / 2 ? max : 2 * j.to;
-            j.base = (double)j.from / max;
-            j.share = (double)(j.to - j.from) / max;
-        } else if (j.adaptive) {
-            j.share = 1.0 / npasses;             /* adaptive: by passes */
-        }
-        threads = run_pass(&j, ws, nt);
-        sum.passes++;
-        if (j.cancel)
-            break;
-        /* adaptive_next only marks the pixels that go on: the image stays. */
-        int more = j.adaptive ? adaptive_next(&ad) : j.acc && j.to < max;
-        if (o->on_pass) {
-            gather(&j, ws, nt, threads, t0, t1, &sum);
-            if (o->on_pass(o->on_pass_ud, img, sum.passes, &sum)) {
-                sum.stopped = more;              /* after the last pass: it finished */
-                break;
-            }
-            if (interrupt_count() != j.interrupts_seen) {
-                j.cancel = 1;                    /* a Ctrl-C during the callback */
-                break;
-            }
-        }
-        if (!more)
-            break;
-        j.base += j.adaptive ? j.share : 0;
-    }
-    gather(&j, ws, nt, threads, t0, t1, &sum);
+    run_passes(&j, ws, nt, &ad, t0, t1, &sum);
     if (j.adaptive)
         adaptive_free(&ad);
-    int cancelled = j.cancel;
-    for (int i = 0; i < nt; i++)
-        mem_free(ws[i].objects), mem_free(ws[i].materials);
-    mem_free(ws);
+    workers_free(ws, nt);
     mem_free(j.hits);
     mem_free(j.acc);
     pthread_mutex_destroy(&j.lock);
     pthread_cond_destroy(&j.tile_done);
     if (st)
         *st = sum;
-    if (cancelled) {
+    if (j.cancel) {
         lc_image_free(img);
         error_fail(err, LC_ECANCEL, NULL, "render cancelled");
         return NULL;
