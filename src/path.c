@@ -69,6 +69,10 @@ static lc_vec3 mirror_direction(tracer *t, const lc_material *m, unsigned plan, 
     return c < 0 ? v3_madd(w, n, -2 * c) : w;
 }
 
+/* Whether a path records its AOVs (t->aov): a constant in each variant of
+** path_loop, so the plain one has none of their code. */
+typedef enum { PATH_PLAIN, PATH_AOV } path_aovs;
+
 /* One path being traced: where it is and what it carries. */
 typedef struct {
     ray      r;
@@ -86,7 +90,7 @@ typedef struct {
 
 /* Light the path brings: into its sum, the AOVs (aov, a constant) by the
 ** path's class, and explain's record. */
-ALWAYS_INLINE void path_add(tracer *t, path_state *ps, radiance add, int aov)
+ALWAYS_INLINE void path_add(tracer *t, path_state *ps, radiance add, path_aovs aov)
 {
     ps->L = r_add(ps->L, add);
     if (aov)
@@ -97,7 +101,7 @@ ALWAYS_INLINE void path_add(tracer *t, path_state *ps, radiance add, int aov)
 
 /* The path leaves the scene: the sky it sees, weighed against the sky's
 ** light samples after a smooth bounce. */
-ALWAYS_INLINE void path_miss(tracer *t, path_state *ps, int aov)
+ALWAYS_INLINE void path_miss(tracer *t, path_state *ps, path_aovs aov)
 {
     const lc_scene *s = t->scene;
     if (ps->md.n)
@@ -192,7 +196,7 @@ static lc_ray_kind path_delta_bounce(tracer *t, path_state *ps, const hit *h,
 ** weight, then Russian roulette. Returns 0 when the path ends, else 1 with
 ** the path's ray the next one. */
 ALWAYS_INLINE int path_bounce(tracer *t, path_state *ps, const hit *h, const lc_material *m,
-                              unsigned plan, const bsdf *b, int aov)
+                              unsigned plan, const bsdf *b, path_aovs aov)
 {
     double ur[2];
     sample_2d(&t->ps, sample_dim(DIM_PATH, (unsigned)ps->depth, 0), ps->index, ps->count, ur);
@@ -243,7 +247,7 @@ ALWAYS_INLINE int path_bounce(tracer *t, path_state *ps, const hit *h, const lc_
 ** smooth, next-event estimation; into the path's sum (and at the first
 ** hit, the AOVs' emission and direct). */
 ALWAYS_INLINE void path_light(tracer *t, path_state *ps, const hit *h, const bsdf *b,
-                              radiance own, int aov)
+                              radiance own, path_aovs aov)
 {
     if (t->needs & LC_NEED_FILTER)
         t->media = &ps->md;
@@ -262,11 +266,11 @@ ALWAYS_INLINE void path_light(tracer *t, path_state *ps, const hit *h, const bsd
         explain_add(t->log, ps->rec, own);
 }
 
-/* One path; with aov (a constant: path_radiance_aov), its light also goes
+/* One path; with PATH_AOV (path_ray's variant for TRACE_AOV), its light also goes
 ** to t->aov by class: at the first hit, emission and direct; after it, the
 ** class of the first bounce's lobe (diffuse and highlight: indirect). */
 ALWAYS_INLINE radiance path_loop(tracer *t, const ray *r0, uint32_t index, uint32_t count,
-                                 int rec, int aov)
+                                 int rec, path_aovs aov)
 {
     const lc_scene *s = t->scene;
     path_state ps;
@@ -326,8 +330,9 @@ ALWAYS_INLINE radiance path_loop(tracer *t, const ray *r0, uint32_t index, uint3
 radiance path_ray(tracer *t, const ray *r, uint32_t index, uint32_t count)
 {
     if (t->log)
-        return path_loop(t, r, index, count, explain_ray(t->log, -1, LC_RAY_CAMERA, r), 0);
+        return path_loop(t, r, index, count, explain_ray(t->log, -1, LC_RAY_CAMERA, r),
+                         PATH_PLAIN);
     if (t->needs & TRACE_AOV)
-        return path_loop(t, r, index, count, -1, 1);
-    return path_loop(t, r, index, count, -1, 0);
+        return path_loop(t, r, index, count, -1, PATH_AOV);
+    return path_loop(t, r, index, count, -1, PATH_PLAIN);
 }

@@ -398,13 +398,22 @@ ALWAYS_INLINE int trace_dielectric(tracer *t, const hit *h, const lc_material *m
     return on;
 }
 
+/* The primitive a path's last ray left, which it cannot meet again when
+** watch is set: apart from the path struct, whose address the sub-paths
+** take, so that these stay in registers. */
+typedef struct {
+    uint32_t from, from_instance;
+    int      watch;
+} path_left;
+
 /* A mirror or glossy bounce (kr) off h: the first glossy hit of a path
 ** that has not split splits (what the sub-paths bring into *acc); else the
-** loop goes on along *r, of weight *w. Returns 0 when the path ends. */
+** loop goes on along *r, of weight *w, having left *left. Returns 0 when
+** the path ends. */
 ALWAYS_INLINE int trace_reflect(tracer *t, const hit *h, const lc_material *m,
                                 unsigned plan, lc_vec3 n, int split, ray *r, radiance *w,
-                                path *pa, int *rec, int *cls, const media *md,
-                                radiance *acc, unsigned flags)
+                                path *pa, path_left *left, int *rec, int *cls,
+                                const media *md, radiance *acc, unsigned flags)
 {
     radiance next = m->absorb == LC_ABSORB_ALL ? r_scale(r_mul(*w, rad(m->color)), m->kr)
                                                : r_scale(*w, m->kr);
@@ -433,9 +442,9 @@ ALWAYS_INLINE int trace_reflect(tracer *t, const hit *h, const lc_material *m,
     r->o = spawn_origin(h, rd);
     r->d = v3_norm(rd);
     t->rays[kind]++;
-    pa->from = h->shape;
-    pa->from_instance = h->instance;
-    pa->watch = cannot_return(h, rd);
+    left->from = h->shape;
+    left->from_instance = h->instance;
+    left->watch = cannot_return(h, rd);
     *w = next;
     pa->depth++;
     if ((flags & LOOP_AOV) && *cls == AOV_CAMERA)
@@ -464,8 +473,7 @@ ALWAYS_INLINE int trace_reflect(tracer *t, const hit *h, const lc_material *m,
 ** (a camera sample's path, TRACE_AOV), each bounce's light also goes to
 ** t->aov by its class: the first hit's own to direct and emission, the
 ** rest to the class of the first hit's branch it came by (the sums are the
-** same). pa.from, from_instance and watch: the last spawn cannot return to
-** `from`. */
+** same). */
 ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
                                   radiance w, int rec, const media *md0, unsigned flags)
 {
@@ -474,6 +482,7 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
     ray r = *r0;
     radiance acc = {0, 0, 0};
     int mine = t->npending;    /* the branches under it are the caller's */
+    path_left left = {pa.from, pa.from_instance, pa.watch};
     media md = *md0;
     const branch *b;           /* the branch the loop goes on with */
     branch go;
@@ -486,7 +495,7 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
         }
         if (glass && md.n)     /* inside a medium: what it absorbs on the way */
             w = media_absorb(s, &md, w, h.t);
-        if (pa.watch && h.shape == pa.from && h.instance == pa.from_instance)
+        if (left.watch && h.shape == left.from && h.instance == left.from_instance)
             t->self_hits++;
         const lc_material *m = &s->materials[h.material];
         unsigned plan = t->plan[h.material];
@@ -522,8 +531,8 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
             b = &go;
             goto follow;
         }
-        if (trace_reflect(t, &h, m, plan, n, split, &r, &w, &pa, &rec, &cls, &md, &acc,
-                          flags))
+        if (trace_reflect(t, &h, m, plan, n, split, &r, &w, &pa, &left, &rec, &cls, &md,
+                          &acc, flags))
             continue;
     done:
         if (!glass || t->npending == mine)
@@ -535,10 +544,10 @@ ALWAYS_INLINE radiance trace_loop(tracer *t, const ray *r0, path pa, int split,
         r = b->r;
         w = b->w;
         pa.depth = b->depth;
-        pa.watch = b->watch;
+        left.watch = b->watch;
         rec = b->rec;
-        pa.from = b->from;
-        pa.from_instance = b->from_instance;
+        left.from = b->from;
+        left.from_instance = b->from_instance;
         md = b->md;
     }
     return acc;
