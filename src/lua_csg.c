@@ -6,7 +6,7 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 
 /* Operations nest at most this deep (groups inside them count): a tree
 ** built by a script stays within what the C stack walks comfortably. */
@@ -42,7 +42,7 @@ static void check_operand(lua_State *L, int idx, const char *where, int *depth,
     idx = lua_absindex(L, idx);
     luaL_checkstack(L, 8, "CSG operands nested too deep");
     lc_error err;
-    ud_shape *sh = luaL_testudata(L, idx, SHAPE);
+    lb_ud_shape *sh = luaL_testudata(L, idx, LB_SHAPE);
     if (sh) {
         lc_csg_node n;
         memset(&n, 0, sizeof n);
@@ -54,7 +54,7 @@ static void check_operand(lua_State *L, int idx, const char *where, int *depth,
         *nodes = 1;
         return;
     }
-    ud_mesh *me = luaL_testudata(L, idx, MESH);
+    lb_ud_mesh *me = luaL_testudata(L, idx, LB_MESH);
     if (me) {
         if (!me->m)
             operand_error(L, where, "lancer.Mesh already freed");
@@ -71,13 +71,13 @@ static void check_operand(lua_State *L, int idx, const char *where, int *depth,
         *nodes = 1;
         return;
     }
-    ud_csg *c = luaL_testudata(L, idx, CSG);
+    lb_ud_csg *c = luaL_testudata(L, idx, LB_CSG);
     if (c) {
         *depth = c->depth;
         *nodes = c->nodes;
         return;
     }
-    if (luaL_testudata(L, idx, GROUP)) {         /* a union of its members */
+    if (luaL_testudata(L, idx, LB_GROUP)) {      /* a union of its members */
         lua_getiuservalue(L, idx, 1);
         lua_Integer n = (lua_Integer)lua_rawlen(L, -1);
         if (n == 0)
@@ -99,7 +99,7 @@ static void check_operand(lua_State *L, int idx, const char *where, int *depth,
         *nodes = total;
         return;
     }
-    if (luaL_testudata(L, idx, LIGHT))
+    if (luaL_testudata(L, idx, LB_LIGHT))
         operand_error(L, where, "a point light is not a closed solid");
     lua_pushfstring(L, "shape, mesh, group or CSG object expected, got %s",
                     type_name(L, idx));
@@ -108,11 +108,11 @@ static void check_operand(lua_State *L, int idx, const char *where, int *depth,
 
 /* Pushes a CSG userdata: op over the operands (an array at stack index
 ** ops), with the material at mat (nil: none). */
-static ud_csg *push_csg(lua_State *L, lc_csg_op op, int ops, int mat)
+static lb_ud_csg *push_csg(lua_State *L, lc_csg_op op, int ops, int mat)
 {
     ops = lua_absindex(L, ops);
     mat = lua_absindex(L, mat);
-    ud_csg *u = lua_newuserdatauv(L, sizeof *u, 2);
+    lb_ud_csg *u = lua_newuserdatauv(L, sizeof *u, 2);
     memset(u, 0, sizeof *u);
     u->op = op;
     u->t = lc_transform_identity();
@@ -120,7 +120,7 @@ static ud_csg *push_csg(lua_State *L, lc_csg_op op, int ops, int mat)
     lua_setiuservalue(L, -2, 1);
     lua_pushvalue(L, mat);
     lua_setiuservalue(L, -2, 2);
-    luaL_setmetatable(L, CSG);
+    luaL_setmetatable(L, LB_CSG);
     return u;
 }
 
@@ -169,7 +169,7 @@ static int csg_new(lua_State *L, lc_csg_op op)
     }
     if (n < 1)
         return luaL_argerror(L, 1, "at least one operand expected, got none");
-    lf_udata(L, 1, "material", MATERIAL, 0);             /* pushes it, or nil */
+    lf_udata(L, 1, "material", LB_MATERIAL, 0);          /* pushes it, or nil */
     int mat = lua_gettop(L);
     int cut = op == LC_CSG_DIFFERENCE ? lf_option(L, 1, "cut", cut_opts, 0) : 0;
     lua_createtable(L, (int)n, 0);
@@ -195,7 +195,7 @@ static int csg_new(lua_State *L, lc_csg_op op)
         return luaL_argerror(L, 1, lua_pushfstring(L, "a CSG object has at most %d "
                                                    "nodes, got %d", LC_CSG_MAX_NODES,
                                                    (int)total));
-    ud_csg *u = push_csg(L, op, ops, mat);
+    lb_ud_csg *u = push_csg(L, op, ops, mat);
     u->cut_object = cut;
     u->depth = deepest + 1;
     u->nodes = total;
@@ -207,17 +207,17 @@ static int w_intersection(lua_State *L) { return csg_new(L, LC_CSG_INTERSECTION)
 static int w_difference(lua_State *L) { return csg_new(L, LC_CSG_DIFFERENCE); }
 static int w_merge(lua_State *L) { return csg_new(L, LC_CSG_MERGE); }
 
-int csg_lua_moved(lua_State *L, int idx, const lc_transform *t)
+int lb_csg_moved(lua_State *L, int idx, const lc_transform *t)
 {
     idx = lua_absindex(L, idx);
-    const ud_csg *c = luaL_checkudata(L, idx, CSG);
+    const lb_ud_csg *c = luaL_checkudata(L, idx, LB_CSG);
     lc_transform m = lc_transform_compose(t, &c->t);
     lc_error err;
     if (lc_transform_check(&m, &err))
         return luaL_argerror(L, 2, err.msg);
     lua_getiuservalue(L, idx, 1);
     lua_getiuservalue(L, idx, 2);
-    ud_csg *u = push_csg(L, c->op, -2, -1);
+    lb_ud_csg *u = push_csg(L, c->op, -2, -1);
     u->cut_object = c->cut_object;
     u->depth = c->depth;
     u->nodes = c->nodes;
@@ -248,8 +248,8 @@ static void describe(lua_State *L, int idx, const lc_transform *t, int mat, desc
     memset(nd, 0, sizeof *nd);
     nd->transform = lc_transform_identity();
     lc_error err;
-    ud_shape *sh = luaL_testudata(L, idx, SHAPE);
-    ud_mesh *me = sh ? NULL : luaL_testudata(L, idx, MESH);
+    lb_ud_shape *sh = luaL_testudata(L, idx, LB_SHAPE);
+    lb_ud_mesh *me = sh ? NULL : luaL_testudata(L, idx, LB_MESH);
     if (sh || me) {
         nd->op = sh ? LC_CSG_SHAPE : LC_CSG_MESH;
         if (sh) {
@@ -271,7 +271,7 @@ static void describe(lua_State *L, int idx, const lc_transform *t, int mat, desc
         }
         return;
     }
-    ud_csg *c = luaL_testudata(L, idx, CSG);
+    lb_ud_csg *c = luaL_testudata(L, idx, LB_CSG);
     lc_transform placed;
     if (c) {
         nd->op = c->op;
@@ -281,7 +281,7 @@ static void describe(lua_State *L, int idx, const lc_transform *t, int mat, desc
         if (!lua_isnil(L, -1))
             mat = lua_gettop(L);
     } else {                            /* a group: a union of its members */
-        const ud_group *g = lua_touserdata(L, idx);
+        const lb_ud_group *g = lua_touserdata(L, idx);
         nd->op = LC_CSG_UNION;
         placed = t ? lc_transform_compose(t, &g->t) : g->t;
         lua_pushnil(L);                 /* keeps the stack's shape */
@@ -298,10 +298,10 @@ static void describe(lua_State *L, int idx, const lc_transform *t, int mat, desc
     lua_pop(L, 2);
 }
 
-size_t csg_lua_describe(lua_State *L, int idx, const lc_transform *xf, int arg)
+size_t lb_csg_describe(lua_State *L, int idx, const lc_transform *xf, int arg)
 {
     idx = lua_absindex(L, idx);
-    const ud_csg *c = luaL_checkudata(L, idx, CSG);
+    const lb_ud_csg *c = luaL_checkudata(L, idx, LB_CSG);
     size_t n = c->nodes;
     describer d;
     d.nodes = lua_newuserdatauv(L, n * sizeof *d.nodes, 0);
@@ -324,10 +324,10 @@ size_t csg_lua_describe(lua_State *L, int idx, const lc_transform *xf, int arg)
 static void count_operand(lua_State *L, int idx, int *depth, size_t *nodes)
 {
     idx = lua_absindex(L, idx);
-    ud_csg *c = luaL_testudata(L, idx, CSG);
+    lb_ud_csg *c = luaL_testudata(L, idx, LB_CSG);
     *depth = c ? c->depth : 0;
     *nodes = c ? c->nodes : 1;
-    if (!luaL_testudata(L, idx, GROUP))
+    if (!luaL_testudata(L, idx, LB_GROUP))
         return;
     lua_getiuservalue(L, idx, 1);
     lua_Integer n = (lua_Integer)lua_rawlen(L, -1);
@@ -354,7 +354,7 @@ static size_t push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, size
     const lc_csg_node *nd = &nodes[i];
     if (nd->op == LC_CSG_SHAPE) {
         lua_rawgeti(L, mats, nd->material);              /* nil: the default */
-        shapes_push(L, &nd->shape, -1);
+        lb_shape_push(L, &nd->shape, -1);
         lua_remove(L, -2);
         return i + 1;
     }
@@ -372,7 +372,7 @@ static size_t push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, size
             lua_createtable(L, 1, 0);
             lua_pushvalue(L, m);
             lua_rawseti(L, -2, 1);
-            ud_csg *u = push_csg(L, LC_CSG_UNION, -1, -2);
+            lb_ud_csg *u = push_csg(L, LC_CSG_UNION, -1, -2);
             u->depth = 1;
             u->nodes = 2;
             lua_replace(L, m);
@@ -382,7 +382,7 @@ static size_t push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, size
             lua_createtable(L, 1, 0);
             lua_pushvalue(L, m);
             lua_rawseti(L, -2, 1);
-            motion_push_group(L, &nd->transform, -1);
+            lb_motion_push_group(L, &nd->transform, -1);
             lua_replace(L, m);
             lua_settop(L, m);
         }
@@ -402,7 +402,7 @@ static size_t push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, size
         lua_rawseti(L, ops, k + 1);
     }
     lua_pushnil(L);
-    ud_csg *u = push_csg(L, nd->op, ops, -1);
+    lb_ud_csg *u = push_csg(L, nd->op, ops, -1);
     u->cut_object = nd->cut_object;
     u->depth = deepest + 1;
     u->nodes = total;
@@ -411,8 +411,8 @@ static size_t push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, size
     return j;
 }
 
-void csg_lua_push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, int mats,
-                         int meshes)
+void lb_csg_push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, int mats,
+                        int meshes)
 {
     mats = lua_absindex(L, mats);
     meshes = lua_absindex(L, meshes);
@@ -425,7 +425,7 @@ void csg_lua_push_listed(lua_State *L, const lc_csg_node *nodes, size_t n, int m
 ** operands as they print, then "moved by lancer.transform{...}" when moved. */
 static int w_csg_tostring(lua_State *L)
 {
-    const ud_csg *c = luaL_checkudata(L, 1, CSG);
+    const lb_ud_csg *c = luaL_checkudata(L, 1, LB_CSG);
     lua_settop(L, 1);
     lua_getiuservalue(L, 1, 1);                      /* 2 */
     lua_getiuservalue(L, 1, 2);                      /* 3 */
@@ -453,9 +453,9 @@ static int w_csg_tostring(lua_State *L)
     luaL_addstring(&b, "}");
     if (c->moved) {
         luaL_addstring(&b, " moved by ");
-        ud_transform *t = lua_newuserdatauv(L, sizeof *t, 0);
+        lb_ud_transform *t = lua_newuserdatauv(L, sizeof *t, 0);
         t->t = c->t;
-        luaL_setmetatable(L, TRANSFORM);
+        luaL_setmetatable(L, LB_TRANSFORM);
         luaL_tolstring(L, -1, NULL);
         lua_remove(L, -2);
         luaL_addvalue(&b);
@@ -466,7 +466,7 @@ static int w_csg_tostring(lua_State *L)
 
 static int w_csg_index(lua_State *L)
 {
-    const ud_csg *c = luaL_checkudata(L, 1, CSG);
+    const lb_ud_csg *c = luaL_checkudata(L, 1, LB_CSG);
     const char *k = luaL_checkstring(L, 2);
     if (strcmp(k, "kind") == 0) {
         lua_pushstring(L, lc_csg_op_name(c->op));
@@ -483,11 +483,11 @@ static int w_csg_index(lua_State *L)
     } else if (strcmp(k, "cut") == 0 && c->op == LC_CSG_DIFFERENCE) {
         lua_pushstring(L, cut_opts[c->cut_object]);
     } else if (strcmp(k, "transform") == 0 && c->moved) {
-        ud_transform *t = lua_newuserdatauv(L, sizeof *t, 0);
+        lb_ud_transform *t = lua_newuserdatauv(L, sizeof *t, 0);
         t->t = c->t;
-        luaL_setmetatable(L, TRANSFORM);
+        luaL_setmetatable(L, LB_TRANSFORM);
     } else if (strcmp(k, "moved") == 0) {
-        lua_pushcfunction(L, motion_moved);
+        lua_pushcfunction(L, lb_motion_moved);
     } else {
         lua_pushnil(L);
     }
@@ -496,13 +496,13 @@ static int w_csg_index(lua_State *L)
 
 static int w_csg_len(lua_State *L)
 {
-    luaL_checkudata(L, 1, CSG);
+    luaL_checkudata(L, 1, LB_CSG);
     lua_getiuservalue(L, 1, 1);
     lua_pushinteger(L, (lua_Integer)lua_rawlen(L, -1));
     return 1;
 }
 
-void csg_lua_register(lua_State *L)
+void lb_csg_register(lua_State *L)
 {
     static const luaL_Reg meta[] = {
         {"__tostring", w_csg_tostring}, {"__index", w_csg_index}, {"__len", w_csg_len},
@@ -510,6 +510,6 @@ void csg_lua_register(lua_State *L)
     static const luaL_Reg funcs[] = {
         {"union", w_union}, {"intersection", w_intersection},
         {"difference", w_difference}, {"merge", w_merge}, {NULL, NULL}};
-    lancer_class(L, CSG, meta, NULL);
+    lb_class(L, LB_CSG, meta, NULL);
     luaL_setfuncs(L, funcs, 0);
 }

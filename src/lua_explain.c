@@ -7,7 +7,7 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 
 static int w_records_free(lua_State *L)
 {
@@ -30,7 +30,7 @@ static void set_raw(lua_State *L, const char *k)
 static void push_node(lua_State *L, const lc_ray_record *x)
 {
     lua_createtable(L, 0, 12);
-    luaL_setmetatable(L, RAYTREE);
+    luaL_setmetatable(L, LB_RAYTREE);
     lua_pushstring(L, lc_ray_kind_name(x->kind));
     set_raw(L, "kind");
     lf_push_vec3(L, x->origin);
@@ -118,23 +118,23 @@ typedef struct {
 ** the scene again. */
 static void explain_read(lua_State *L, explain_args *a, int plain)
 {
-    static const char *const known[] = {"x", "y", "sample", RENDER_OPTIONS, NULL};
-    scene_check(L, 1);
+    static const char *const known[] = {"x", "y", "sample", LB_RENDER_OPTIONS, NULL};
+    lb_scene_check(L, 1);
     lua_settop(L, 2);
     lf_open(L, 2, known);
-    render_read_options(L, 2, &a->o);
+    lb_render_read_options(L, 2, &a->o);
     a->x = lf_integer(L, 2, "x", 1, 0);
     a->y = lf_integer(L, 2, "y", 1, 0);
     a->sample = lf_integer(L, 2, "sample", 0, 1);
     lc_error err;
     if (lc_render_options_check(&a->o, &err))
-        hook_raise(L, plain, 2, &err);
+        lb_hook_raise(L, plain, 2, &err);
 }
 
 /* Explains a pixel of the scene at 1: pushes its tree. */
 static int explain_work(lua_State *L, const explain_args *a, int plain)
 {
-    scene_check(L, 1);
+    lb_scene_check(L, 1);
     /* The records belong to a userdata from the start: building the tables
     ** may raise (out of memory) and nothing may leak then. */
     lc_ray_record **box = lua_newuserdatauv(L, sizeof *box, 0);
@@ -146,9 +146,10 @@ static int explain_work(lua_State *L, const explain_args *a, int plain)
     size_t n;
     lc_error err;
     /* Fetched after the allocations above, which may run finalizers. */
-    if (lc_scene_explain(scene_at(L, 1), &a->o, a->x - 1, a->y - 1, a->sample - 1, box,
+    if (lc_scene_explain(lb_scene_at(L, 1), &a->o, a->x - 1, a->y - 1, a->sample - 1,
+                         box,
                          &n, &err))
-        return hook_raise(L, plain, 2, &err);
+        return lb_hook_raise(L, plain, 2, &err);
     push_tree(L, *box, n);
     return 1;
 }
@@ -167,7 +168,7 @@ static int w_scene_explain(lua_State *L)
 {
     explain_args a;
     explain_read(L, &a, 0);
-    int n = hook_call(L, "explain", explain_plain, 2);
+    int n = lb_hook_call(L, "explain", explain_plain, 2);
     return n >= 0 ? n : explain_work(L, &a, 0);
 }
 
@@ -368,14 +369,14 @@ static int w_raytree_tostring(lua_State *L)
     return 1;
 }
 
-void explain_register(lua_State *L)
+void lb_explain_register(lua_State *L)
 {
     static const luaL_Reg methods[] = {{"explain", w_scene_explain}, {NULL, NULL}};
     static const luaL_Reg raytree_meta[] = {
         {"__tostring", w_raytree_tostring}, {NULL, NULL}};
-    luaL_getmetatable(L, SCENE);
+    luaL_getmetatable(L, LB_SCENE);
     lua_getfield(L, -1, "methods");
     luaL_setfuncs(L, methods, 0);
     lua_pop(L, 2);
-    lancer_class(L, RAYTREE, raytree_meta, NULL);
+    lb_class(L, LB_RAYTREE, raytree_meta, NULL);
 }

@@ -1,7 +1,7 @@
 /* lua_hook.c: the host hook, one function a host sets around render, explain, save. */
 #include <lauxlib.h>
 #include <lua.h>
-#include "lua_types.h"
+#include "lua_binding.h"
 
 /* lancer.set_host_hook(fn) sets the hook (nil removes it) and returns the
 ** one it replaces, or nil. With a hook set, scene:render, scene:explain
@@ -34,7 +34,7 @@ static int w_plain_error_tostring(lua_State *L)
     return 1;
 }
 
-int hook_fail(lua_State *L, int plain, int arg, const char *msg)
+int lb_hook_fail(lua_State *L, int plain, int arg, const char *msg)
 {
     if (!plain)
         return arg ? luaL_argerror(L, arg, msg) : luaL_error(L, "%s", msg);
@@ -47,17 +47,17 @@ int hook_fail(lua_State *L, int plain, int arg, const char *msg)
     return lua_error(L);
 }
 
-int hook_raise(lua_State *L, int plain, int arg, const lc_error *err)
+int lb_hook_raise(lua_State *L, int plain, int arg, const lc_error *err)
 {
     if (err->code != LC_EARG)
-        return hook_fail(L, plain, 0, err->msg);
+        return lb_hook_fail(L, plain, 0, err->msg);
     if (!err->field[0])
-        return hook_fail(L, plain, arg, err->msg);
-    return hook_fail(L, plain, arg, lua_pushfstring(L, "field '%s': %s", err->field,
-                                                    err->msg));
+        return lb_hook_fail(L, plain, arg, err->msg);
+    return lb_hook_fail(L, plain, arg, lua_pushfstring(L, "field '%s': %s", err->field,
+                                                       err->msg));
 }
 
-int hook_call(lua_State *L, const char *method, lua_CFunction plain, int nargs)
+int lb_hook_call(lua_State *L, const char *method, lua_CFunction plain, int nargs)
 {
     if (lua_rawgetp(L, LUA_REGISTRYINDEX, &hook_key) != LUA_TFUNCTION) {
         lua_pop(L, 1);
@@ -77,7 +77,7 @@ int hook_call(lua_State *L, const char *method, lua_CFunction plain, int nargs)
         if (ours) {                    /* raised again here: at the script's line */
             lua_getfield(L, -1, "arg");
             lua_getfield(L, -2, "msg");
-            return hook_fail(L, 0, (int)lua_tointeger(L, -2), lua_tostring(L, -1));
+            return lb_hook_fail(L, 0, (int)lua_tointeger(L, -2), lua_tostring(L, -1));
         }
     }
     return lua_error(L);
@@ -94,11 +94,11 @@ static int w_set_host_hook(lua_State *L)
     return 1;
 }
 
-void hook_register(lua_State *L)
+void lb_hook_register(lua_State *L)
 {
     static const luaL_Reg error_meta[] = {
         {"__tostring", w_plain_error_tostring}, {NULL, NULL}};
-    lancer_class(L, PLAIN_ERROR, error_meta, NULL);
+    lb_class(L, PLAIN_ERROR, error_meta, NULL);
     lua_pushcfunction(L, w_set_host_hook);
     lua_setfield(L, -2, "set_host_hook");
 }

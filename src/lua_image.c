@@ -9,15 +9,15 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 
 /* ---- images --------------------------------------------------------------- */
 
 /* The core image of the userdata at idx, raising when freed: fetched right
-** before the lc_ call that uses it (see scene_at in lua_types.h). */
+** before the lc_ call that uses it (see lb_scene_at in lua_binding.h). */
 static lc_image *check_image(lua_State *L, int idx)
 {
-    ud_image *u = luaL_checkudata(L, idx, IMAGE);
+    lb_ud_image *u = luaL_checkudata(L, idx, LB_IMAGE);
     if (!u->img)
         luaL_argerror(L, idx, "lancer.Image already freed");
     return u->img;
@@ -25,7 +25,7 @@ static lc_image *check_image(lua_State *L, int idx)
 
 static int w_image_free(lua_State *L)              /* __gc and __close */
 {
-    ud_image *u = luaL_checkudata(L, 1, IMAGE);
+    lb_ud_image *u = luaL_checkudata(L, 1, LB_IMAGE);
     lc_image_free(u->img);
     u->img = NULL;                                  /* safe to call twice */
     return 0;
@@ -77,8 +77,9 @@ static int save_work(lua_State *L, const lc_save_options *o, int plain)
     lc_error err;
     if (lc_image_save_with(check_image(L, 1), lua_tostring(L, 2), o, &err)) {
         if (strcmp(err.field, "alpha") == 0)
-            return hook_fail(L, plain, 3, lua_pushfstring(L, "field 'alpha': %s", err.msg));
-        return hook_fail(L, plain, 2, err.msg);     /* names 'save' and the path */
+            return lb_hook_fail(L, plain, 3,
+                                lua_pushfstring(L, "field 'alpha': %s", err.msg));
+        return lb_hook_fail(L, plain, 2, err.msg);  /* names 'save' and the path */
     }
     lua_settop(L, 1);
     return 1;
@@ -99,7 +100,7 @@ static int w_image_save(lua_State *L)
 {
     lc_save_options o;
     save_args(L, &o);
-    int n = hook_call(L, "save", save_plain, 3);
+    int n = lb_hook_call(L, "save", save_plain, 3);
     return n >= 0 ? n : save_work(L, &o, 0);
 }
 
@@ -108,14 +109,14 @@ static int w_image_save(lua_State *L)
 static int push_loaded(lua_State *L, lc_image *(*load)(const char *, lc_error *))
 {
     luaL_checktype(L, 1, LUA_TSTRING);
-    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);
+    lb_ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);
     ui->img = NULL;
-    luaL_setmetatable(L, IMAGE);
+    luaL_setmetatable(L, LB_IMAGE);
     lc_error err;
     ui->img = load(lua_tostring(L, 1), &err);
     if (!ui->img)
         return luaL_argerror(L, 1, err.msg);
-    lancer_charge(L);
+    lb_charge(L);
     return 1;
 }
 
@@ -157,14 +158,14 @@ static int w_load_png(lua_State *L)
         lf_open(L, 2, known);
         enc = (lc_encoding)lf_option(L, 2, "encoding", encoding_opts, 0);
     }
-    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    lb_ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0); /* before the image */
     ui->img = NULL;
-    luaL_setmetatable(L, IMAGE);
+    luaL_setmetatable(L, LB_IMAGE);
     lc_error err;
     ui->img = lc_image_load_png(lua_tostring(L, 1), enc, &err);
     if (!ui->img)
         return luaL_argerror(L, 1, err.msg);
-    lancer_charge(L);
+    lb_charge(L);
     return 1;
 }
 
@@ -236,7 +237,7 @@ static int w_image_set(lua_State *L)
         if (lc_image_add_alpha(img, &err))
             return luaL_error(L, "%s", err.msg);
         lc_image_set_alpha(img, (int)x - 1, (int)y - 1, a);
-        lancer_charge(L);
+        lb_charge(L);
     }
     lc_image_set(img, (int)x - 1, (int)y - 1, c);
     return 0;
@@ -285,9 +286,9 @@ static int w_image(lua_State *L)
     int w = lf_integer(L, 1, "width", 1, 0), h = lf_integer(L, 1, "height", 1, 0);
     lc_color black = {0, 0, 0};
     lc_color c = lf_color(L, 1, "color", 0, black);
-    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    lb_ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0); /* before the image */
     ui->img = NULL;
-    luaL_setmetatable(L, IMAGE);
+    luaL_setmetatable(L, LB_IMAGE);
     lc_error err;
     ui->img = lc_image_new(w, h, &err);
     if (!ui->img)
@@ -296,7 +297,7 @@ static int w_image(lua_State *L)
         for (int y = 0; y < h; y++)
             for (int x = 0; x < w; x++)
                 lc_image_set(ui->img, x, y, c);
-    lancer_charge(L);
+    lb_charge(L);
     return 1;
 }
 
@@ -304,7 +305,7 @@ static int w_image(lua_State *L)
 static lc_aov check_aov(lua_State *L, int idx)
 {
     const char *why;
-    int k = aov_of_name(L, idx, &why);
+    int k = lb_aov_of_name(L, idx, &why);
     if (k < 0)
         luaL_argerror(L, idx, why);
     return (lc_aov)k;
@@ -314,14 +315,14 @@ static lc_aov check_aov(lua_State *L, int idx)
 static int push_made(lua_State *L, lc_image *(*make)(const lc_image *, lc_aov, int,
                                                      lc_error *), lc_aov a, int id)
 {
-    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    lb_ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0); /* before the image */
     ui->img = NULL;
-    luaL_setmetatable(L, IMAGE);
+    luaL_setmetatable(L, LB_IMAGE);
     lc_error err;
     ui->img = make(check_image(L, 1), a, id, &err);
     if (!ui->img)
         return luaL_argerror(L, 2, err.msg);
-    lancer_charge(L);
+    lb_charge(L);
     return 1;
 }
 
@@ -342,7 +343,7 @@ static int w_image_aov(lua_State *L)
 /* img:aovs(): the names of the AOVs the image holds, in lc_aov's order. */
 static int w_image_aovs(lua_State *L)
 {
-    aov_push_names(L, lc_image_aovs(check_image(L, 1)));
+    lb_aov_push_names(L, lc_image_aovs(check_image(L, 1)));
     return 1;
 }
 
@@ -359,7 +360,7 @@ static int w_image_matte(lua_State *L)
 
 static int w_image_tostring(lua_State *L)
 {
-    ud_image *u = luaL_checkudata(L, 1, IMAGE);
+    lb_ud_image *u = luaL_checkudata(L, 1, LB_IMAGE);
     if (!u->img)
         lua_pushstring(L, "lancer.Image (freed)");
     else
@@ -399,7 +400,7 @@ static int w_image_index(lua_State *L)
 }
 
 
-void image_register(lua_State *L)
+void lb_image_register(lua_State *L)
 {
     static const luaL_Reg image_meta[] = {
         {"__gc", w_image_free}, {"__close", w_image_free}, {"__tostring", w_image_tostring},
@@ -409,7 +410,7 @@ void image_register(lua_State *L)
         {"nonfinite", w_image_nonfinite}, {"set", w_image_set}, {"error", w_image_error},
         {"add", w_image_add}, {"aov", w_image_aov}, {"aovs", w_image_aovs},
         {"matte", w_image_matte}, {NULL, NULL}};
-    lancer_class(L, IMAGE, image_meta, image_methods);
+    lb_class(L, LB_IMAGE, image_meta, image_methods);
     lua_pushcfunction(L, w_load_png);
     lua_setfield(L, -2, "load_png");
     lua_pushcfunction(L, w_load_exr);

@@ -5,10 +5,10 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_lancer.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 
-void lancer_class(lua_State *L, const char *name, const luaL_Reg *meta,
-                  const luaL_Reg *methods)
+void lb_class(lua_State *L, const char *name, const luaL_Reg *meta,
+              const luaL_Reg *methods)
 {
     luaL_newmetatable(L, name);
     luaL_setfuncs(L, meta, 0);
@@ -40,9 +40,9 @@ typedef struct {
 
 static const char account_key = 'a';      /* registry[&account_key]: a gc_account */
 
-void lancer_check_file(lua_State *L, int arg, const char *path, int writing)
+void lb_check_file(lua_State *L, int arg, const char *path, int writing)
 {
-    if (lua_getfield(L, LUA_REGISTRYINDEX, LANCER_FILE_GATE) != LUA_TFUNCTION) {
+    if (lua_getfield(L, LUA_REGISTRYINDEX, LB_FILE_GATE) != LUA_TFUNCTION) {
         lua_pop(L, 1);
         return;
     }
@@ -56,7 +56,7 @@ void lancer_check_file(lua_State *L, int arg, const char *path, int writing)
     lua_pop(L, 2);
 }
 
-void lancer_charge(lua_State *L)
+void lb_charge(lua_State *L)
 {
     lua_rawgetp(L, LUA_REGISTRYINDEX, &account_key);
     gc_account *a = lua_touserdata(L, -1);
@@ -86,19 +86,19 @@ int luaopen_lancer_core(lua_State *L)
     a->pending = 0;
     lua_rawsetp(L, LUA_REGISTRYINDEX, &account_key);
     lua_newtable(L);
-    objects_register(L);
-    shapes_register(L);
-    mesh_register(L);
-    scene_register(L);
-    render_register(L);
-    explain_register(L);
-    image_register(L);
-    motion_register(L);
-    scene_objects_register(L);
-    query_register(L);
-    texture_register(L);
-    csg_lua_register(L);
-    hook_register(L);
+    lb_objects_register(L);
+    lb_shapes_register(L);
+    lb_mesh_register(L);
+    lb_scene_register(L);
+    lb_render_register(L);
+    lb_explain_register(L);
+    lb_image_register(L);
+    lb_motion_register(L);
+    lb_scene_objects_register(L);
+    lb_query_register(L);
+    lb_texture_register(L);
+    lb_csg_register(L);
+    lb_hook_register(L);
     lua_pushstring(L, LC_VERSION);
     lua_setfield(L, -2, "version");
     lua_pushstring(L, "lancer " LC_VERSION);

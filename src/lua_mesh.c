@@ -8,17 +8,17 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 
 /* ---- meshes --------------------------------------------------------------- */
 
 #define CHUNK 1024    /* items converted per call into the core */
 
 /* The core mesh of the userdata at idx, raising when freed: fetched right
-** before the lc_ call that uses it (see scene_at in lua_types.h). */
+** before the lc_ call that uses it (see lb_scene_at in lua_binding.h). */
 static lc_mesh *check_mesh(lua_State *L, int idx)
 {
-    ud_mesh *u = luaL_checkudata(L, idx, MESH);
+    lb_ud_mesh *u = luaL_checkudata(L, idx, LB_MESH);
     if (!u->m)
         luaL_error(L, "lancer.Mesh already freed");
     return u->m;
@@ -242,7 +242,7 @@ static lua_Integer set_palette(lua_State *L, int arg, int list, int mi)
     lua_createtable(L, (int)n, 0);
     for (lua_Integer k = 1; k <= n; k++) {
         lua_geti(L, list, k);
-        if (!luaL_testudata(L, -1, MATERIAL))
+        if (!luaL_testudata(L, -1, LB_MATERIAL))
             lf_error(L, arg, "materials", "entry %lld: lancer.Material expected, got %s",
                      (long long)k, luaL_typename(L, -1));
         lua_rawseti(L, -2, k);
@@ -256,9 +256,9 @@ static lua_Integer set_palette(lua_State *L, int arg, int list, int mi)
 static lc_mesh *push_mesh(lua_State *L, int mat)
 {
     mat = lua_absindex(L, mat);
-    ud_mesh *u = lua_newuserdatauv(L, sizeof *u, 2);
+    lb_ud_mesh *u = lua_newuserdatauv(L, sizeof *u, 2);
     u->m = NULL;
-    luaL_setmetatable(L, MESH);
+    luaL_setmetatable(L, LB_MESH);
     lua_pushvalue(L, mat);
     lua_setiuservalue(L, -2, 1);
     lc_error err;
@@ -277,7 +277,7 @@ static int w_mesh(lua_State *L)
         lua_newtable(L);
     }
     lf_open(L, 1, known);
-    lf_udata(L, 1, "material", MATERIAL, 0);
+    lf_udata(L, 1, "material", LB_MATERIAL, 0);
     int mat = lua_gettop(L);
     push_mesh(L, mat);
     int top = lua_gettop(L);
@@ -308,7 +308,7 @@ static int w_mesh(lua_State *L)
     else if (slots)
         return lf_error(L, 1, "face_materials", "given without 'faces'");
     lua_settop(L, top);
-    lancer_charge(L);
+    lb_charge(L);
     return 1;
 }
 
@@ -319,7 +319,7 @@ static int w_triangle(lua_State *L)
     lc_vec3 z = {0, 0, 0};
     lc_vec3 a = lf_vec3(L, 1, "a", 1, z), b = lf_vec3(L, 1, "b", 1, z);
     lc_vec3 c = lf_vec3(L, 1, "c", 1, z);
-    lf_udata(L, 1, "material", MATERIAL, 0);
+    lf_udata(L, 1, "material", LB_MATERIAL, 0);
     lc_mesh *m = push_mesh(L, -1);
     const lc_vec3 *corner[3] = {&a, &b, &c};
     static const char *const names[3] = {"a", "b", "c"};
@@ -346,7 +346,7 @@ static void push_mtl_material(lua_State *L, const lc_mtl *t, int textures, const
     lc_material m = lc_mtl_material(t);
     if (t->map_bump[0] && textures)
         m.bump = 0.02 * t->bump_mult;
-    objects_push_material(L, &m);
+    lb_material_push(L, &m);
     if (!textures)
         return;
     int mat = lua_gettop(L);
@@ -359,19 +359,20 @@ static void push_mtl_material(lua_State *L, const lc_mtl *t, int textures, const
             continue;
         char what[LC_MTL_PATH + 300];
         snprintf(what, sizeof what, "'%s': material '%s': %s", obj, t->name, kind[k]);
-        lancer_check_file(L, 1, files[k], 0);
+        lb_check_file(L, 1, files[k], 0);
         FILE *fp = fopen(files[k], "rb");
         if (!fp) {                           /* not there: noted, the colour stays */
             lua_pushfstring(L, "%s '%s' cannot be opened: %s", what, files[k],
                             strerror(errno));
             lua_rawseti(L, warnings, (lua_Integer)lua_rawlen(L, warnings) + 1);
             if (k == 1)
-                ((ud_material *)lua_touserdata(L, mat))->m.bump = 0;
+                ((lb_ud_material *)lua_touserdata(L, mat))->m.bump = 0;
             continue;
         }
         fclose(fp);
-        texture_push_png(L, files[k], what,          /* there but unreadable: an error */
-                         k == 2 ? LC_ENCODE_LINEAR : LC_ENCODE_SRGB);
+        /* There but unreadable: an error. */
+        lb_texture_push_png(L, files[k], what,
+                            k == 2 ? LC_ENCODE_LINEAR : LC_ENCODE_SRGB);
         lua_setfield(L, -2, slot[k]);
     }
     lua_pop(L, 1);
@@ -388,7 +389,7 @@ static const lc_mtl *push_libraries(lua_State *L, const lc_mesh *m, const char *
     if (nlibs > 64)
         luaL_error(L, "'%s': more than 64 mtllib files", path);
     for (size_t l = 0; l < nlibs; l++)      /* all first: a refusal raises, and leaks */
-        lancer_check_file(L, 1, lc_mesh_mtllib(m, l), 0);
+        lb_check_file(L, 1, lc_mesh_mtllib(m, l), 0);
     for (size_t l = 0; l < nlibs; l++) {
         lc_error err;
         if (lc_mtl_load(lc_mesh_mtllib(m, l), &part[l], &count[l], &err)) {
@@ -447,7 +448,7 @@ static void obj_palette(lua_State *L, int mesh, int opts, int textures, const ch
         const lc_mtl *t = name ? mtl_find(all, nmtl, name) : NULL;
         int given = name && opts && lua_getfield(L, opts, "materials") == LUA_TTABLE &&
                     lua_getfield(L, -1, name) != LUA_TNIL;
-        if (given && !luaL_testudata(L, -1, MATERIAL))
+        if (given && !luaL_testudata(L, -1, LB_MATERIAL))
             lf_error(L, 2, "materials", "'%s': lancer.Material expected, got %s", name,
                      luaL_typename(L, -1));
         if (given) {
@@ -480,15 +481,15 @@ static int w_load_obj(lua_State *L)
             return lf_error(L, 2, "materials", "table from material name to lancer.Material "
                             "expected, got %s", luaL_typename(L, -1));
         lua_pop(L, 1);
-        lf_udata(L, 2, "material", MATERIAL, 0);
+        lf_udata(L, 2, "material", LB_MATERIAL, 0);
     } else {
         lua_settop(L, 1);
         lua_pushnil(L);
         lua_pushnil(L);
     }
-    ud_mesh *u = lua_newuserdatauv(L, sizeof *u, 3);
+    lb_ud_mesh *u = lua_newuserdatauv(L, sizeof *u, 3);
     u->m = NULL;
-    luaL_setmetatable(L, MESH);
+    luaL_setmetatable(L, LB_MESH);
     int mesh = lua_gettop(L);
     lua_pushvalue(L, -2);
     lua_setiuservalue(L, -2, 1);
@@ -496,7 +497,7 @@ static int w_load_obj(lua_State *L)
     u->m = lc_mesh_load_obj(path, &err);
     if (!u->m)
         return luaL_argerror(L, 1, err.msg);     /* names 'load_obj', the file, the line */
-    lancer_charge(L);
+    lb_charge(L);
     obj_palette(L, mesh, opts, textures, path);
     lua_settop(L, mesh);
     return 1;
@@ -505,44 +506,44 @@ static int w_load_obj(lua_State *L)
 static int w_mesh_add_vertices(lua_State *L)
 {
     check_mesh(L, 1);
-    render_check_idle(L, "add_vertices");
+    lb_render_check_idle(L, "add_vertices");
     read_points(L, 2, 2, 1, POINTS, "vertices");
     lua_pushinteger(L, (lua_Integer)lc_mesh_vertex_count(check_mesh(L, 1)));
-    lancer_charge(L);
+    lb_charge(L);
     return 1;
 }
 
 static int w_mesh_add_normals(lua_State *L)
 {
     check_mesh(L, 1);
-    render_check_idle(L, "add_normals");
+    lb_render_check_idle(L, "add_normals");
     read_points(L, 2, 2, 1, NORMALS, "normals");
-    lancer_charge(L);
+    lb_charge(L);
     return 0;
 }
 
 static int w_mesh_add_uvs(lua_State *L)
 {
     check_mesh(L, 1);
-    render_check_idle(L, "add_uvs");
+    lb_render_check_idle(L, "add_uvs");
     read_points(L, 2, 2, 1, UVS, "uvs");
-    lancer_charge(L);
+    lb_charge(L);
     return 0;
 }
 
 static int w_mesh_add_faces(lua_State *L)
 {
     check_mesh(L, 1);
-    render_check_idle(L, "add_faces");
+    lb_render_check_idle(L, "add_faces");
     read_faces(L, 2, 2, 1, "faces", 0, 0);
     lua_pushinteger(L, (lua_Integer)lc_mesh_face_count(check_mesh(L, 1)));
-    lancer_charge(L);
+    lb_charge(L);
     return 1;
 }
 
 static int w_mesh_free(lua_State *L)              /* __gc and __close */
 {
-    ud_mesh *u = luaL_checkudata(L, 1, MESH);
+    lb_ud_mesh *u = luaL_checkudata(L, 1, LB_MESH);
     lc_mesh_free(u->m);                          /* scenes keep their own hold */
     u->m = NULL;
     return 0;
@@ -550,7 +551,7 @@ static int w_mesh_free(lua_State *L)              /* __gc and __close */
 
 static int w_mesh_tostring(lua_State *L)
 {
-    ud_mesh *u = luaL_checkudata(L, 1, MESH);
+    lb_ud_mesh *u = luaL_checkudata(L, 1, LB_MESH);
     if (!u->m)
         lua_pushstring(L, "lancer.Mesh (freed)");
     else
@@ -604,7 +605,7 @@ static int w_mesh_index(lua_State *L)
 }
 
 
-void mesh_register(lua_State *L)
+void lb_mesh_register(lua_State *L)
 {
     static const luaL_Reg mesh_meta[] = {
         {"__gc", w_mesh_free}, {"__close", w_mesh_free}, {"__tostring", w_mesh_tostring},
@@ -612,10 +613,10 @@ void mesh_register(lua_State *L)
     static const luaL_Reg mesh_methods[] = {
         {"add_vertices", w_mesh_add_vertices}, {"add_faces", w_mesh_add_faces},
         {"add_normals", w_mesh_add_normals},
-        {"add_uvs", w_mesh_add_uvs}, {"moved", motion_moved}, {NULL, NULL}};
+        {"add_uvs", w_mesh_add_uvs}, {"moved", lb_motion_moved}, {NULL, NULL}};
     static const luaL_Reg funcs[] = {
         {"mesh", w_mesh}, {"triangle", w_triangle}, {"load_obj", w_load_obj},
         {NULL, NULL}};
-    lancer_class(L, MESH, mesh_meta, mesh_methods);
+    lb_class(L, LB_MESH, mesh_meta, mesh_methods);
     luaL_setfuncs(L, funcs, 0);
 }

@@ -6,7 +6,7 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 
 /* Raises the core's complaint about a transform at argument arg. Its
 ** sentences name the transform already ("transform is singular ..."). */
@@ -24,15 +24,15 @@ static int push_transform(lua_State *L, const lc_transform *t, int arg)
     lc_error err;
     if (lc_transform_check(t, &err))
         return raise_transform(L, arg, &err);
-    ud_transform *u = lua_newuserdatauv(L, sizeof *u, 0);
+    lb_ud_transform *u = lua_newuserdatauv(L, sizeof *u, 0);
     u->t = *t;
-    luaL_setmetatable(L, TRANSFORM);
+    luaL_setmetatable(L, LB_TRANSFORM);
     return 1;
 }
 
 static const lc_transform *check_transform(lua_State *L, int idx)
 {
-    return &((ud_transform *)luaL_checkudata(L, idx, TRANSFORM))->t;
+    return &((lb_ud_transform *)luaL_checkudata(L, idx, LB_TRANSFORM))->t;
 }
 
 static double finite_arg(lua_State *L, int arg)
@@ -229,14 +229,14 @@ static const char *type_name(lua_State *L, int idx)
     return got;
 }
 
-void motion_push_group(lua_State *L, const lc_transform *t, int members)
+void lb_motion_push_group(lua_State *L, const lc_transform *t, int members)
 {
     members = lua_absindex(L, members);
-    ud_group *g = lua_newuserdatauv(L, sizeof *g, 1);
+    lb_ud_group *g = lua_newuserdatauv(L, sizeof *g, 1);
     g->t = *t;
     lua_pushvalue(L, members);
     lua_setiuservalue(L, -2, 1);
-    luaL_setmetatable(L, GROUP);
+    luaL_setmetatable(L, LB_GROUP);
 }
 
 /* lancer.group{a, b, ...}: shapes, meshes, lights, groups and CSG objects that move
@@ -248,9 +248,9 @@ static int w_group(lua_State *L)
     lua_createtable(L, (int)n, 0);
     for (lua_Integer i = 1; i <= n; i++) {
         lua_geti(L, 1, i);
-        if (!luaL_testudata(L, -1, SHAPE) && !luaL_testudata(L, -1, MESH) &&
-            !luaL_testudata(L, -1, LIGHT) && !luaL_testudata(L, -1, GROUP) &&
-            !luaL_testudata(L, -1, CSG))
+        if (!luaL_testudata(L, -1, LB_SHAPE) && !luaL_testudata(L, -1, LB_MESH) &&
+            !luaL_testudata(L, -1, LB_LIGHT) && !luaL_testudata(L, -1, LB_GROUP) &&
+            !luaL_testudata(L, -1, LB_CSG))
             return luaL_argerror(L, 1, lua_pushfstring(L, "element %I: shape, mesh, "
                                                        "light, group or CSG object "
                                                        "expected, got %s", i,
@@ -267,13 +267,13 @@ static int w_group(lua_State *L)
         lua_pop(L, 1);
     }
     lc_transform id = lc_transform_identity();
-    motion_push_group(L, &id, -1);
+    lb_motion_push_group(L, &id, -1);
     return 1;
 }
 
 static int w_group_index(lua_State *L)
 {
-    ud_group *g = luaL_checkudata(L, 1, GROUP);
+    lb_ud_group *g = luaL_checkudata(L, 1, LB_GROUP);
     const char *k = luaL_checkstring(L, 2);
     if (strcmp(k, "kind") == 0) {
         lua_pushliteral(L, "group");
@@ -288,7 +288,7 @@ static int w_group_index(lua_State *L)
             lua_rawseti(L, -2, i);
         }
     } else if (strcmp(k, "moved") == 0) {
-        lua_pushcfunction(L, motion_moved);
+        lua_pushcfunction(L, lb_motion_moved);
     } else {
         lua_pushnil(L);
     }
@@ -297,7 +297,7 @@ static int w_group_index(lua_State *L)
 
 static int w_group_len(lua_State *L)
 {
-    luaL_checkudata(L, 1, GROUP);
+    luaL_checkudata(L, 1, LB_GROUP);
     lua_getiuservalue(L, 1, 1);
     lua_pushinteger(L, luaL_len(L, -1));
     return 1;
@@ -305,7 +305,7 @@ static int w_group_len(lua_State *L)
 
 static int w_group_tostring(lua_State *L)
 {
-    ud_group *g = luaL_checkudata(L, 1, GROUP);
+    lb_ud_group *g = luaL_checkudata(L, 1, LB_GROUP);
     lua_getiuservalue(L, 1, 1);
     lua_Integer n = luaL_len(L, -1);
     lua_pushfstring(L, "lancer.Group (%I member%s%s)", n, n == 1 ? "" : "s",
@@ -317,43 +317,43 @@ static int w_group_tostring(lua_State *L)
 ** Shapes and lights are values, moved now (exactly: lc_shape_transform);
 ** a mesh is shared data, so it becomes a group of one, placed by T; a CSG
 ** object keeps T, and its leaves take it when added. */
-int motion_moved(lua_State *L)
+int lb_motion_moved(lua_State *L)
 {
     const lc_transform *t = check_transform(L, 2);
     lc_error err;
-    ud_shape *sh = luaL_testudata(L, 1, SHAPE);
+    lb_ud_shape *sh = luaL_testudata(L, 1, LB_SHAPE);
     if (sh) {
         lc_shape out;
         if (lc_shape_transform(&sh->s, t, &out, &err))
             return raise_transform(L, 2, &err);
         lua_getiuservalue(L, 1, 1);
-        shapes_push(L, &out, -1);
+        lb_shape_push(L, &out, -1);
         return 1;
     }
-    ud_light *li = luaL_testudata(L, 1, LIGHT);
+    lb_ud_light *li = luaL_testudata(L, 1, LB_LIGHT);
     if (li) {
-        ud_light l;
-        if (!objects_light_moved(li, t, &l, &err))
+        lb_ud_light l;
+        if (!lb_light_moved(li, t, &l, &err))
             return luaL_argerror(L, 2, err.msg);
-        objects_push_light(L, &l);
+        lb_light_push(L, &l);
         return 1;
     }
-    if (luaL_testudata(L, 1, MESH)) {
+    if (luaL_testudata(L, 1, LB_MESH)) {
         lua_createtable(L, 1, 0);
         lua_pushvalue(L, 1);
         lua_rawseti(L, -2, 1);
-        motion_push_group(L, t, -1);
+        lb_motion_push_group(L, t, -1);
         return 1;
     }
-    if (luaL_testudata(L, 1, CSG))
-        return csg_lua_moved(L, 1, t);
-    ud_group *g = luaL_testudata(L, 1, GROUP);
+    if (luaL_testudata(L, 1, LB_CSG))
+        return lb_csg_moved(L, 1, t);
+    lb_ud_group *g = luaL_testudata(L, 1, LB_GROUP);
     if (g) {
         lc_transform c = lc_transform_compose(t, &g->t);
         if (lc_transform_check(&c, &err))
             return raise_transform(L, 2, &err);
         lua_getiuservalue(L, 1, 1);
-        motion_push_group(L, &c, -1);
+        lb_motion_push_group(L, &c, -1);
         return 1;
     }
     return luaL_argerror(L, 1, lua_pushfstring(L, "shape, mesh, light, group or CSG "
@@ -361,7 +361,7 @@ int motion_moved(lua_State *L)
                                                type_name(L, 1)));
 }
 
-void motion_register(lua_State *L)
+void lb_motion_register(lua_State *L)
 {
     static const luaL_Reg transform_meta[] = {
         {"__mul", w_transform_mul}, {"__eq", w_transform_eq},
@@ -376,11 +376,11 @@ void motion_register(lua_State *L)
     static const luaL_Reg funcs[] = {
         {"translate", w_translate}, {"rotate", w_rotate}, {"scale", w_scale},
         {"transform", w_transform}, {"group", w_group}, {NULL, NULL}};
-    lancer_class(L, TRANSFORM, transform_meta, transform_methods);
-    luaL_getmetatable(L, TRANSFORM);              /* methods straight from __index */
+    lb_class(L, LB_TRANSFORM, transform_meta, transform_methods);
+    luaL_getmetatable(L, LB_TRANSFORM);           /* methods straight from __index */
     lua_getfield(L, -1, "methods");
     lua_setfield(L, -2, "__index");
     lua_pop(L, 1);
-    lancer_class(L, GROUP, group_meta, NULL);
+    lb_class(L, LB_GROUP, group_meta, NULL);
     luaL_setfuncs(L, funcs, 0);
 }

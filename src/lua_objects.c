@@ -7,7 +7,7 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 
 /* ---- small helpers ---------------------------------------------------------- */
 
@@ -110,7 +110,7 @@ static int w_material(lua_State *L)
     int tex = lua_gettop(L);
     for (int k = 0; k < LC_SLOTS; k++) {
         lua_getfield(L, 1, lc_slot_name((lc_slot)k));
-        if (texture_check(L, -1)) {
+        if (lb_texture_check(L, -1)) {
             textured[k] = 1;
             lua_setfield(L, tex, lc_slot_name((lc_slot)k));
         } else {
@@ -143,9 +143,9 @@ static int w_material(lua_State *L)
     lc_error err;
     if (lc_material_check(&m, &err))
         return lf_raise(L, 1, &err);
-    ud_material *u = lua_newuserdatauv(L, sizeof *u, 1);
+    lb_ud_material *u = lua_newuserdatauv(L, sizeof *u, 1);
     u->m = m;
-    luaL_setmetatable(L, MATERIAL);
+    luaL_setmetatable(L, LB_MATERIAL);
     lua_pushvalue(L, tex);
     lua_setiuservalue(L, -2, 1);
     return 1;
@@ -153,7 +153,7 @@ static int w_material(lua_State *L)
 
 static int w_material_tostring(lua_State *L)
 {
-    const lc_material *m = &((ud_material *)luaL_checkudata(L, 1, MATERIAL))->m;
+    const lc_material *m = &((lb_ud_material *)luaL_checkudata(L, 1, LB_MATERIAL))->m;
     luaL_Buffer b;
     luaL_buffinit(L, &b);
     luaL_addstring(&b, "lancer.material{");
@@ -215,7 +215,7 @@ static int w_material_tostring(lua_State *L)
 
 static int w_material_index(lua_State *L)
 {
-    const lc_material *m = &((ud_material *)luaL_checkudata(L, 1, MATERIAL))->m;
+    const lc_material *m = &((lb_ud_material *)luaL_checkudata(L, 1, LB_MATERIAL))->m;
     const char *k = luaL_checkstring(L, 2);
     /* A field a texture stands for reads as that texture. */
     if (lua_getiuservalue(L, 1, 1) == LUA_TTABLE && lua_getfield(L, -1, k) != LUA_TNIL)
@@ -242,24 +242,24 @@ static int w_material_index(lua_State *L)
     return 1;
 }
 
-void objects_push_material(lua_State *L, const lc_material *m)
+void lb_material_push(lua_State *L, const lc_material *m)
 {
-    ud_material *u = lua_newuserdatauv(L, sizeof *u, 1);
+    lb_ud_material *u = lua_newuserdatauv(L, sizeof *u, 1);
     u->m = *m;
-    luaL_setmetatable(L, MATERIAL);
+    luaL_setmetatable(L, LB_MATERIAL);
     lua_newtable(L);
     lua_setiuservalue(L, -2, 1);
 }
 
-void objects_push_light(lua_State *L, const ud_light *l)
+void lb_light_push(lua_State *L, const lb_ud_light *l)
 {
-    ud_light *u = lua_newuserdatauv(L, sizeof *u, 0);
+    lb_ud_light *u = lua_newuserdatauv(L, sizeof *u, 0);
     *u = *l;
-    luaL_setmetatable(L, LIGHT);
+    luaL_setmetatable(L, LB_LIGHT);
 }
 
-int objects_light_moved(const ud_light *l, const lc_transform *t, ud_light *out,
-                        lc_error *err)
+int lb_light_moved(const lb_ud_light *l, const lc_transform *t, lb_ud_light *out,
+                   lc_error *err)
 {
     *out = *l;
     switch (l->kind) {
@@ -276,7 +276,7 @@ int objects_light_moved(const ud_light *l, const lc_transform *t, ud_light *out,
     }
 }
 
-int objects_light_add(lc_scene *s, const ud_light *l, lc_error *err)
+int lb_light_add(lc_scene *s, const lb_ud_light *l, lc_error *err)
 {
     switch (l->kind) {
     case LC_OBJECT_SPOT_LIGHT: return lc_scene_add_spot_light(s, &l->spot, err);
@@ -285,9 +285,9 @@ int objects_light_add(lc_scene *s, const ud_light *l, lc_error *err)
     }
 }
 
-ud_light objects_light_of(const lc_object *o)
+lb_ud_light lb_light_of(const lc_object *o)
 {
-    ud_light l;
+    lb_ud_light l;
     memset(&l, 0, sizeof l);
     l.kind = o->kind;
     l.l = o->light;
@@ -300,9 +300,9 @@ ud_light objects_light_of(const lc_object *o)
 
 static const char *const falloff_opts[] = {"inverse_square", "none", NULL};
 
-static int push_new_light(lua_State *L, const ud_light *l)
+static int push_new_light(lua_State *L, const lb_ud_light *l)
 {
-    objects_push_light(L, l);
+    lb_light_push(L, l);
     return 1;
 }
 
@@ -310,7 +310,7 @@ static int w_point_light(lua_State *L)
 {
     static const char *const known[] = {"position", "color", "intensity", "falloff", NULL};
     lf_open(L, 1, known);
-    ud_light u;
+    lb_ud_light u;
     memset(&u, 0, sizeof u);
     u.kind = LC_OBJECT_LIGHT;
     lc_point_light l = lc_point_light_default();
@@ -332,7 +332,7 @@ static int w_spot_light(lua_State *L)
     static const char *const known[] = {"position", "direction", "at", "angle", "soft",
                                         "color", "intensity", "falloff", NULL};
     lf_open(L, 1, known);
-    ud_light u;
+    lb_ud_light u;
     memset(&u, 0, sizeof u);
     u.kind = LC_OBJECT_SPOT_LIGHT;
     lc_spot_light l = lc_spot_light_default();
@@ -367,7 +367,7 @@ static int w_directional_light(lua_State *L)
 {
     static const char *const known[] = {"direction", "irradiance", "color", NULL};
     lf_open(L, 1, known);
-    ud_light u;
+    lb_ud_light u;
     memset(&u, 0, sizeof u);
     u.kind = LC_OBJECT_DIRECTIONAL_LIGHT;
     lc_directional_light l = lc_directional_light_default();
@@ -383,7 +383,7 @@ static int w_directional_light(lua_State *L)
 
 static int w_light_tostring(lua_State *L)
 {
-    const ud_light *u = luaL_checkudata(L, 1, LIGHT);
+    const lb_ud_light *u = luaL_checkudata(L, 1, LB_LIGHT);
     luaL_Buffer b;
     luaL_buffinit(L, &b);
     if (u->kind == LC_OBJECT_SPOT_LIGHT) {
@@ -430,10 +430,10 @@ static int w_light_tostring(lua_State *L)
 
 static int w_light_index(lua_State *L)
 {
-    const ud_light *u = luaL_checkudata(L, 1, LIGHT);
+    const lb_ud_light *u = luaL_checkudata(L, 1, LB_LIGHT);
     const char *k = luaL_checkstring(L, 2);
     if (strcmp(k, "moved") == 0) {
-        lua_pushcfunction(L, motion_moved);
+        lua_pushcfunction(L, lb_motion_moved);
     } else if (u->kind == LC_OBJECT_SPOT_LIGHT) {
         const lc_spot_light *l = &u->spot;
         if (strcmp(k, "kind") == 0) lua_pushstring(L, "spot_light");
@@ -479,15 +479,15 @@ static int w_camera(lua_State *L)
     lc_error err;
     if (lc_camera_check(&c, &err))
         return lf_raise(L, 1, &err);
-    ud_camera *u = lua_newuserdatauv(L, sizeof *u, 0);
+    lb_ud_camera *u = lua_newuserdatauv(L, sizeof *u, 0);
     u->c = c;
-    luaL_setmetatable(L, CAMERA);
+    luaL_setmetatable(L, LB_CAMERA);
     return 1;
 }
 
 static int w_camera_tostring(lua_State *L)
 {
-    const lc_camera *c = &((ud_camera *)luaL_checkudata(L, 1, CAMERA))->c;
+    const lc_camera *c = &((lb_ud_camera *)luaL_checkudata(L, 1, LB_CAMERA))->c;
     luaL_Buffer b;
     luaL_buffinit(L, &b);
     luaL_addstring(&b, "lancer.camera{");
@@ -511,7 +511,7 @@ static int w_camera_tostring(lua_State *L)
 
 static int w_camera_index(lua_State *L)
 {
-    const lc_camera *c = &((ud_camera *)luaL_checkudata(L, 1, CAMERA))->c;
+    const lc_camera *c = &((lb_ud_camera *)luaL_checkudata(L, 1, LB_CAMERA))->c;
     const char *k = luaL_checkstring(L, 2);
     if (strcmp(k, "from") == 0) lf_push_vec3(L, c->from);
     else if (strcmp(k, "at") == 0) lf_push_vec3(L, c->at);
@@ -524,7 +524,7 @@ static int w_camera_index(lua_State *L)
 }
 
 
-void objects_register(lua_State *L)
+void lb_objects_register(lua_State *L)
 {
     static const luaL_Reg material_meta[] = {
         {"__tostring", w_material_tostring}, {"__index", w_material_index}, {NULL, NULL}};
@@ -537,8 +537,8 @@ void objects_register(lua_State *L)
         {"spot_light", w_spot_light}, {"directional_light", w_directional_light},
         {"camera", w_camera},
         {NULL, NULL}};
-    lancer_class(L, MATERIAL, material_meta, NULL);
-    lancer_class(L, LIGHT, light_meta, NULL);
-    lancer_class(L, CAMERA, camera_meta, NULL);
+    lb_class(L, LB_MATERIAL, material_meta, NULL);
+    lb_class(L, LB_LIGHT, light_meta, NULL);
+    lb_class(L, LB_CAMERA, camera_meta, NULL);
     luaL_setfuncs(L, funcs, 0);
 }

@@ -6,7 +6,7 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 
 #define CHUNK 256     /* rays per call into the core */
 
@@ -152,7 +152,7 @@ static const char *const result_names[R_FIELDS] = {
 /* scene:intersect{origin, direction | origins, directions [, tmin, tmax]} */
 static int w_scene_intersect(lua_State *L)
 {
-    scene_check(L, 1);
+    lb_scene_check(L, 1);
     request q;
     read_request(L, &q);
     int res = 0;
@@ -174,14 +174,14 @@ static int w_scene_intersect(lua_State *L)
         size_t n = q.n - base < CHUNK ? q.n - base : CHUNK;
         read_rays(L, &q, base, n, rays);
         lc_error err;
-        if (lc_scene_intersect(scene_at(L, 1), rays, n, hits, &err))
+        if (lc_scene_intersect(lb_scene_at(L, 1), rays, n, hits, &err))
             return raise_at(L, &q, base, &err);
         if (q.single) {
             if (hits[0].hit)
                 push_hit(L, &hits[0]);
             else
                 lua_pushnil(L);
-            lancer_charge(L);           /* the first cast may build the BVH */
+            lb_charge(L);               /* the first cast may build the BVH */
             return 1;
         }
         int t[R_FIELDS];
@@ -212,7 +212,7 @@ static int w_scene_intersect(lua_State *L)
         lua_settop(L, top);
     }
     lua_pushvalue(L, res);              /* (one ray returned above) */
-    lancer_charge(L);
+    lb_charge(L);
     return 1;
 }
 
@@ -220,7 +220,7 @@ static int w_scene_intersect(lua_State *L)
 ** booleans for flat arrays. */
 static int w_scene_occluded(lua_State *L)
 {
-    scene_check(L, 1);
+    lb_scene_check(L, 1);
     request q;
     read_request(L, &q);
     int res = 0;
@@ -234,11 +234,11 @@ static int w_scene_occluded(lua_State *L)
         size_t n = q.n - base < CHUNK ? q.n - base : CHUNK;
         read_rays(L, &q, base, n, rays);
         lc_error err;
-        if (lc_scene_occluded(scene_at(L, 1), rays, n, blocked, &err))
+        if (lc_scene_occluded(lb_scene_at(L, 1), rays, n, blocked, &err))
             return raise_at(L, &q, base, &err);
         if (q.single) {
             lua_pushboolean(L, blocked[0]);
-            lancer_charge(L);
+            lb_charge(L);
             return 1;
         }
         for (size_t i = 0; i < n; i++) {
@@ -247,15 +247,15 @@ static int w_scene_occluded(lua_State *L)
         }
     }
     lua_pushvalue(L, res);
-    lancer_charge(L);
+    lb_charge(L);
     return 1;
 }
 
-void query_register(lua_State *L)
+void lb_query_register(lua_State *L)
 {
     static const luaL_Reg methods[] = {
         {"intersect", w_scene_intersect}, {"occluded", w_scene_occluded}, {NULL, NULL}};
-    luaL_getmetatable(L, SCENE);
+    luaL_getmetatable(L, LB_SCENE);
     lua_getfield(L, -1, "methods");
     luaL_setfuncs(L, methods, 0);
     lua_pop(L, 2);

@@ -6,7 +6,7 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 #include "progress_bar.h"
 #include "clock.h"
 
@@ -59,7 +59,7 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
         lua_setfield(L, -2, lc_need_name(1u << k));
     }
     lua_setfield(L, -2, "why");
-    aov_push_names(L, st->aovs);
+    lb_aov_push_names(L, st->aovs);
     lua_setfield(L, -2, "aovs");
     if (st->warning[0]) {
         lua_pushstring(L, st->warning);
@@ -73,7 +73,7 @@ static void push_stats(lua_State *L, const lc_stats *st, double lua_seconds)
 
 static const char *const sampler_opts[] = {"sobol", "jitter", "random", NULL};
 
-int aov_of_name(lua_State *L, int idx, const char **why)
+int lb_aov_of_name(lua_State *L, int idx, const char **why)
 {
     idx = lua_absindex(L, idx);         /* the buffer below pushes */
     const char *name = lua_type(L, idx) == LUA_TSTRING ? lua_tostring(L, idx) : NULL;
@@ -97,7 +97,7 @@ int aov_of_name(lua_State *L, int idx, const char **why)
     return -1;
 }
 
-void aov_push_names(lua_State *L, unsigned bits)
+void lb_aov_push_names(lua_State *L, unsigned bits)
 {
     lua_newtable(L);
     int n = 0;
@@ -120,7 +120,7 @@ static unsigned read_aovs(lua_State *L, int arg)
         for (lua_Integer i = 1; i <= n; i++) {
             lua_rawgeti(L, -1, i);
             const char *why;
-            int k = aov_of_name(L, -1, &why);
+            int k = lb_aov_of_name(L, -1, &why);
             if (k < 0)
                 lf_error(L, arg, "aovs", "item %d: %s", (int)i, why);
             bits |= 1u << k;
@@ -131,7 +131,7 @@ static unsigned read_aovs(lua_State *L, int arg)
     return bits;
 }
 
-void render_read_options(lua_State *L, int arg, lc_render_options *o)
+void lb_render_read_options(lua_State *L, int arg, lc_render_options *o)
 {
     *o = lc_render_options_default();
     o->width = lf_integer(L, arg, "width", 0, o->width);
@@ -263,16 +263,16 @@ static int pass_placeholder(void *ud, const lc_image *img, int pass,
 ** the scene again. */
 static void render_args(lua_State *L, lc_render_options *o, int *show, int plain)
 {
-    static const char *const known[] = {RENDER_OPTIONS, "progress", "progressive",
+    static const char *const known[] = {LB_RENDER_OPTIONS, "progress", "progressive",
                                         "on_pass", NULL};
-    scene_check(L, 1);
+    lb_scene_check(L, 1);
     lua_settop(L, 2);
     if (lua_isnil(L, 2)) {
         lua_newtable(L);
         lua_replace(L, 2);
     }
     lf_open(L, 2, known);
-    render_read_options(L, 2, o);
+    lb_render_read_options(L, 2, o);
     *show = progress_mode(L, 2);
     o->progressive = lf_boolean(L, 2, "progressive", 0);
     int t = lua_getfield(L, 2, "on_pass");
@@ -285,7 +285,7 @@ static void render_args(lua_State *L, lc_render_options *o, int *show, int plain
     o->on_pass = t == LUA_TFUNCTION ? pass_placeholder : NULL;
     lc_error err;
     if (lc_render_options_check(o, &err))
-        hook_raise(L, plain, 2, &err);
+        lb_hook_raise(L, plain, 2, &err);
 }
 
 /* Renders whose on_pass may run Lua code now, in this state. */
@@ -305,7 +305,7 @@ static void set_passing(lua_State *L, int n)
     lua_rawsetp(L, LUA_REGISTRYINDEX, &passing_key);
 }
 
-void render_check_idle(lua_State *L, const char *what)
+void lb_render_check_idle(lua_State *L, const char *what)
 {
     if (passing(L) > 0)
         luaL_error(L, "%s: no mesh may grow while a render's on_pass runs (a scene "
@@ -331,16 +331,16 @@ static int pass_call(lua_State *L)
     const lc_stats *st = lua_touserdata(L, 4);
     double lua_seconds = lua_tonumber(L, 5);
     lua_pushvalue(L, 1);
-    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the copy */
+    lb_ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0); /* before the copy */
     ui->img = NULL;
-    luaL_setmetatable(L, IMAGE);
+    luaL_setmetatable(L, LB_IMAGE);
     lc_error err;
     ui->img = lc_image_copy(img, &err);
     if (!ui->img)
         return luaL_error(L, "on_pass: %s", err.msg);
     lua_pushvalue(L, 3);
     push_stats(L, st, lua_seconds);
-    lancer_charge(L);
+    lb_charge(L);
     lua_call(L, 3, 1);
     if (lua_isnil(L, -1) || lua_isboolean(L, -1)) {
         lua_pushinteger(L, lua_isboolean(L, -1) && !lua_toboolean(L, -1));
@@ -381,22 +381,22 @@ static int pass_called(void *ud, const lc_image *img, int pass, const struct lc_
 /* Renders the scene at 1: pushes the image and the statistics. */
 static int render_work(lua_State *L, lc_render_options *o, int show, int plain)
 {
-    ud_scene *u = scene_check(L, 1);
+    lb_ud_scene *u = lb_scene_check(L, 1);
     pass_ctx pc = {L, 0, 0, 0, 0};
     if (o->on_pass) {
         luaL_checkstack(L, 12, "render's on_pass");
         lua_getfield(L, 2, "on_pass");            /* checked by render_args */
         pc.fn = lua_gettop(L);
         if (lua_type(L, pc.fn) != LUA_TFUNCTION)  /* changed by a metamethod since */
-            return hook_fail(L, plain, 2, "field 'on_pass': function expected");
+            return lb_hook_fail(L, plain, 2, "field 'on_pass': function expected");
         lua_pushnil(L);
         pc.result = lua_gettop(L);
         o->on_pass = pass_called;
         o->on_pass_ud = &pc;
     }
-    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);   /* before the image */
+    lb_ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0); /* before the image */
     ui->img = NULL;
-    luaL_setmetatable(L, IMAGE);
+    luaL_setmetatable(L, LB_IMAGE);
     int image = lua_gettop(L);
     lc_stats st;
     lc_error err;
@@ -407,7 +407,7 @@ static int render_work(lua_State *L, lc_render_options *o, int show, int plain)
     double lua_seconds = clock_seconds() - u->mark;
     pc.lua_seconds = lua_seconds;
     /* Fetched after the allocations above, which may run finalizers. */
-    lc_scene *s = scene_at(L, 1);
+    lc_scene *s = lb_scene_at(L, 1);
     if (o->on_pass) {
         u->rendering = 1;
         set_passing(L, passing(L) + 1);
@@ -423,20 +423,20 @@ static int render_work(lua_State *L, lc_render_options *o, int show, int plain)
         lc_image_free(ui->img);
         ui->img = NULL;
         if (pc.failed == 2)
-            return hook_fail(L, plain, 2, lua_pushfstring(L, "field 'on_pass': returned "
-                             "%s; nil, true or false expected (false stops the render)",
-                             luaL_typename(L, pc.result)));
+            return lb_hook_fail(L, plain, 2, lua_pushfstring(L, "field 'on_pass': "
+                                "returned %s; nil, true or false expected (false "
+                                "stops the render)", luaL_typename(L, pc.result)));
         lua_pushvalue(L, pc.result);
         return lua_error(L);                      /* as the script's on_pass raised it */
     }
     if (!ui->img) {
         if (strcmp(err.field, "camera") == 0)
-            return hook_fail(L, plain, 0, "render: the scene has no camera (set "
-                             "scene.camera = lancer.camera{...})");
-        return hook_raise(L, plain, 2, &err);
+            return lb_hook_fail(L, plain, 0, "render: the scene has no camera (set "
+                                "scene.camera = lancer.camera{...})");
+        return lb_hook_raise(L, plain, 2, &err);
     }
     lua_settop(L, image);
-    lancer_charge(L);
+    lb_charge(L);
     push_stats(L, &st, lua_seconds);
     return 2;
 }
@@ -458,7 +458,7 @@ static int w_scene_render(lua_State *L)
     lc_render_options o;
     int show;
     render_args(L, &o, &show, 0);
-    int n = hook_call(L, "render", render_plain, 2);
+    int n = lb_hook_call(L, "render", render_plain, 2);
     if (n < 0)
         n = render_work(L, &o, show, 0);
     if (n >= 2 && lua_type(L, -n + 1) == LUA_TTABLE) {
@@ -471,10 +471,10 @@ static int w_scene_render(lua_State *L)
     return n;
 }
 
-void render_register(lua_State *L)
+void lb_render_register(lua_State *L)
 {
     static const luaL_Reg methods[] = {{"render", w_scene_render}, {NULL, NULL}};
-    luaL_getmetatable(L, SCENE);
+    luaL_getmetatable(L, LB_SCENE);
     lua_getfield(L, -1, "methods");
     luaL_setfuncs(L, methods, 0);
     lua_pop(L, 2);

@@ -5,23 +5,23 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 #include "clock.h"
 
-/* A scene's user value holds its camera, materials and meshes: see SC_CAMERA in
-** lua_types.h. */
+/* A scene's user value holds its camera, materials and meshes: see LB_SC_CAMERA in
+** lua_binding.h. */
 
-ud_scene *scene_check(lua_State *L, int idx)
+lb_ud_scene *lb_scene_check(lua_State *L, int idx)
 {
-    ud_scene *u = luaL_checkudata(L, idx, SCENE);
+    lb_ud_scene *u = luaL_checkudata(L, idx, LB_SCENE);
     if (!u->s)
         luaL_argerror(L, idx, "lancer.Scene already freed");
     return u;
 }
 
-lc_scene *scene_at(lua_State *L, int idx)
+lc_scene *lb_scene_at(lua_State *L, int idx)
 {
-    ud_scene *u = scene_check(L, idx);
+    lb_ud_scene *u = lb_scene_check(L, idx);
     if (u->rendering)            /* the core holds its lock: it would wait for itself */
         luaL_argerror(L, idx, "lancer.Scene is rendering: its render's on_pass cannot "
                       "change, render or query it");
@@ -30,7 +30,7 @@ lc_scene *scene_at(lua_State *L, int idx)
 
 static void set_camera(lua_State *L, int sidx, int cidx, int arg, const char *field)
 {
-    ud_camera *c = luaL_testudata(L, cidx, CAMERA);
+    lb_ud_camera *c = luaL_testudata(L, cidx, LB_CAMERA);
     if (!c) {
         const char *got = luaL_typename(L, cidx);
         if (luaL_getmetafield(L, cidx, "__name") == LUA_TSTRING)
@@ -40,11 +40,11 @@ static void set_camera(lua_State *L, int sidx, int cidx, int arg, const char *fi
         luaL_error(L, "scene.camera: lancer.Camera expected, got %s", got);
     }
     lc_error err;
-    if (lc_scene_set_camera(scene_at(L, sidx), &c->c, &err))
+    if (lc_scene_set_camera(lb_scene_at(L, sidx), &c->c, &err))
         luaL_error(L, "%s", err.msg);
     lua_getiuservalue(L, sidx, 1);
     lua_pushvalue(L, cidx);
-    lua_rawseti(L, -2, SC_CAMERA);
+    lua_rawseti(L, -2, LB_SC_CAMERA);
     lua_pop(L, 1);
 }
 
@@ -53,8 +53,8 @@ static void set_camera(lua_State *L, int sidx, int cidx, int arg, const char *fi
 static void set_background(lua_State *L, int sidx, int tidx, int arg)
 {
     tidx = lua_absindex(L, tidx);
-    int index = texture_scene_index(L, sidx, tidx, arg, 0);
-    lc_scene *s = scene_at(L, sidx);
+    int index = lb_texture_scene_index(L, sidx, tidx, arg, 0);
+    lc_scene *s = lb_scene_at(L, sidx);
     lc_settings st = lc_scene_settings(s);
     st.background_texture = 1 + index;
     lc_error err;
@@ -62,7 +62,7 @@ static void set_background(lua_State *L, int sidx, int tidx, int arg)
         luaL_error(L, "scene.background: %s", err.msg);
     lua_getiuservalue(L, sidx, 1);
     lua_pushvalue(L, tidx);
-    lua_rawseti(L, -2, SC_BACKGROUND);
+    lua_rawseti(L, -2, LB_SC_BACKGROUND);
     lua_pop(L, 1);
 }
 
@@ -77,7 +77,7 @@ static int w_scene(lua_State *L)
     lf_open(L, 1, known);
     lc_settings st = lc_settings_default();
     lua_getfield(L, 1, "background");
-    int sky = texture_check(L, -1);
+    int sky = lb_texture_check(L, -1);
     lua_pop(L, 1);
     if (!sky)
         st.background = lf_color(L, 1, "background", 0, st.background);
@@ -85,20 +85,20 @@ static int w_scene(lua_State *L)
     st.max_depth = lf_integer(L, 1, "max_depth", 0, st.max_depth);  /* range: the core's */
     int has_camera = lf_present(L, 1, "camera");
     if (has_camera)
-        lf_udata(L, 1, "camera", CAMERA, 1);   /* type check before allocating */
+        lf_udata(L, 1, "camera", LB_CAMERA, 1); /* type check before allocating */
 
-    ud_scene *u = lua_newuserdatauv(L, sizeof *u, 1);   /* before the core object */
+    lb_ud_scene *u = lua_newuserdatauv(L, sizeof *u, 1); /* before the core object */
     u->s = NULL;
     u->rendering = 0;
-    luaL_setmetatable(L, SCENE);
+    luaL_setmetatable(L, LB_SCENE);
     int sidx = lua_gettop(L);
     lua_createtable(L, 5, 0);
     lua_newtable(L);
-    lua_rawseti(L, -2, SC_MATERIALS);
+    lua_rawseti(L, -2, LB_SC_MATERIALS);
     lua_newtable(L);
-    lua_rawseti(L, -2, SC_MESHES);
+    lua_rawseti(L, -2, LB_SC_MESHES);
     lua_newtable(L);
-    lua_rawseti(L, -2, SC_TEXTURES);
+    lua_rawseti(L, -2, LB_SC_TEXTURES);
     lua_setiuservalue(L, sidx, 1);
     lc_error err;
     u->s = lc_scene_new(&err);
@@ -123,7 +123,7 @@ static int w_scene(lua_State *L)
 
 static int w_scene_free(lua_State *L)              /* __gc and __close */
 {
-    ud_scene *u = luaL_checkudata(L, 1, SCENE);
+    lb_ud_scene *u = luaL_checkudata(L, 1, LB_SCENE);
     if (u->rendering)            /* not __gc: the render holds it on its stack */
         return luaL_error(L, "lancer.Scene is rendering: its render's on_pass cannot "
                           "close it");
@@ -141,34 +141,34 @@ static int material_index(lua_State *L, int sidx, int midx, int arg)
     int uv = lua_gettop(L);
     int index;
     if (lua_isnil(L, midx)) {
-        if (lua_rawgeti(L, uv, SC_DEFAULT) == LUA_TNUMBER) {
+        if (lua_rawgeti(L, uv, LB_SC_DEFAULT) == LUA_TNUMBER) {
             index = (int)lua_tointeger(L, -1);
         } else {
             lc_material def = lc_material_default();
-            index = lc_scene_add_material(scene_at(L, sidx), &def, &err);
+            index = lc_scene_add_material(lb_scene_at(L, sidx), &def, &err);
             if (index < 0)
                 lf_raise(L, arg, &err);
             lua_pushinteger(L, index);
-            lua_rawseti(L, uv, SC_DEFAULT);
+            lua_rawseti(L, uv, LB_SC_DEFAULT);
         }
     } else {
-        lua_rawgeti(L, uv, SC_MATERIALS);
+        lua_rawgeti(L, uv, LB_SC_MATERIALS);
         lua_pushvalue(L, midx);
         if (lua_rawget(L, -2) == LUA_TNUMBER) {
             index = (int)lua_tointeger(L, -1);
         } else {
-            const ud_material *m = luaL_checkudata(L, midx, MATERIAL);
+            const lb_ud_material *m = luaL_checkudata(L, midx, LB_MATERIAL);
             lc_material mc = m->m;
             /* Its textures join the scene first (each once), named by index. */
                         if (lua_getiuservalue(L, midx, 1) == LUA_TTABLE)
                 for (int k = 0; k < LC_SLOTS; k++) {
                     lua_pushstring(L, lc_slot_name((lc_slot)k));
                     if (lua_rawget(L, -2) == LUA_TUSERDATA)
-                        mc.texture[k] = 1 + texture_scene_index(L, sidx, -1, arg, 0);
+                        mc.texture[k] = 1 + lb_texture_scene_index(L, sidx, -1, arg, 0);
                     lua_pop(L, 1);
                 }
             lua_pop(L, 1);
-            index = lc_scene_add_material(scene_at(L, sidx), &mc, &err);
+            index = lc_scene_add_material(lb_scene_at(L, sidx), &mc, &err);
             if (index < 0)
                 lf_raise(L, arg, &err);
             lua_pushvalue(L, midx);
@@ -232,7 +232,7 @@ static void element_error(lua_State *L, int arg, lua_Integer elem, const char *m
 /* The mesh userdata at idx, raising at arg when it was freed. */
 static lc_mesh *mesh_at(lua_State *L, int idx, int arg)
 {
-    lc_mesh *m = ((ud_mesh *)lua_touserdata(L, idx))->m;
+    lc_mesh *m = ((lb_ud_mesh *)lua_touserdata(L, idx))->m;
     if (!m)
         luaL_argerror(L, arg, "lancer.Mesh already freed");
     return m;
@@ -250,14 +250,14 @@ static void flatten(lua_State *L, int idx, int arg, int depth, lua_Integer elem,
     luaL_checkstack(L, 8, "scene:add: lists nested too deep");   /* 3 a level */
     lc_error err;
     const lc_transform *t = xf_at(L, xf);
-    ud_shape *sh = luaL_testudata(L, idx, SHAPE);
-    ud_light *li = sh ? NULL : luaL_testudata(L, idx, LIGHT);
-    ud_mesh *me = sh || li ? NULL : luaL_testudata(L, idx, MESH);
-    if (!sh && !li && !me && luaL_testudata(L, idx, CSG)) {
+    lb_ud_shape *sh = luaL_testudata(L, idx, LB_SHAPE);
+    lb_ud_light *li = sh ? NULL : luaL_testudata(L, idx, LB_LIGHT);
+    lb_ud_mesh *me = sh || li ? NULL : luaL_testudata(L, idx, LB_MESH);
+    if (!sh && !li && !me && luaL_testudata(L, idx, LB_CSG)) {
         /* Described and checked as it will be added: a leaf the transform
         ** carries out of range, a mesh left open since, is refused now. */
         int top = lua_gettop(L);
-        size_t n = csg_lua_describe(L, idx, t, arg);
+        size_t n = lb_csg_describe(L, idx, t, arg);
         lc_csg_node *nodes = lua_touserdata(L, top + 1);
         for (size_t k = 0; k < n; k++)
             if (nodes[k].op == LC_CSG_MESH) {
@@ -278,8 +278,8 @@ static void flatten(lua_State *L, int idx, int arg, int depth, lua_Integer elem,
         if (t && lc_shape_transform(&sh->s, t, &out, &err))
             element_error(L, arg, elem, err.msg);
     } else if (li) {
-        ud_light l;
-        if (t && !objects_light_moved(li, t, &l, &err))
+        lb_ud_light l;
+        if (t && !lb_light_moved(li, t, &l, &err))
             element_error(L, arg, elem, err.msg);
     } else if (me) {
         if (!me->m)
@@ -293,12 +293,12 @@ static void flatten(lua_State *L, int idx, int arg, int depth, lua_Integer elem,
         flat_append(L, fl);
         return;
     }
-    int group = luaL_testudata(L, idx, GROUP) != NULL;
+    int group = luaL_testudata(L, idx, LB_GROUP) != NULL;
     if ((group || lua_type(L, idx) == LUA_TTABLE) && depth >= MAX_NESTING)
         element_error(L, arg, elem, "lists and groups nest at most 64 deep (does a "
                       "list hold itself?)");
     if (group) {
-        const ud_group *g = lua_touserdata(L, idx);
+        const lb_ud_group *g = lua_touserdata(L, idx);
         lc_transform *moved = lua_newuserdatauv(L, sizeof *moved, 0);
         *moved = t ? lc_transform_compose(t, &g->t) : g->t;
         int gxf = lua_gettop(L);
@@ -343,7 +343,7 @@ static void add_csg(lua_State *L, int idx, int arg, const lc_transform *t)
 {
     lc_error err;
     int top = lua_gettop(L);
-    size_t n = csg_lua_describe(L, idx, t, arg);
+    size_t n = lb_csg_describe(L, idx, t, arg);
     int buf = top + 1, mats = top + 2, meshes = top + 3;
     for (size_t k = 0; k < n; k++) {
         lc_csg_node *nd = (lc_csg_node *)lua_touserdata(L, buf) + k;
@@ -363,26 +363,26 @@ static void add_csg(lua_State *L, int idx, int arg, const lc_transform *t)
             nodes[k].mesh = mesh_at(L, -1, arg);
             lua_pop(L, 1);
         }
-    int id = lc_scene_add_csg(scene_at(L, 1), nodes, n, &err);
+    int id = lc_scene_add_csg(lb_scene_at(L, 1), nodes, n, &err);
     if (id < 0)
         lf_raise(L, arg, &err);
     /* The scene holds the meshes now: naming them may run the collector. */
-    lua_rawgeti(L, top + 4, SC_MESHES);
+    lua_rawgeti(L, top + 4, LB_SC_MESHES);
     for (size_t k = 0; k < n; k++) {
         if (lua_rawgeti(L, meshes, (lua_Integer)k + 1) == LUA_TNIL) {
             lua_pop(L, 1);
             continue;
         }
-        lua_pushlightuserdata(L, ((ud_mesh *)lua_touserdata(L, -1))->m);
+        lua_pushlightuserdata(L, ((lb_ud_mesh *)lua_touserdata(L, -1))->m);
         lua_insert(L, -2);
         lua_rawset(L, -3);
     }
     lua_pop(L, 1);
-    if (lua_rawgeti(L, top + 4, SC_CSGS) != LUA_TTABLE) {
+    if (lua_rawgeti(L, top + 4, LB_SC_CSGS) != LUA_TTABLE) {
         lua_pop(L, 1);
         lua_newtable(L);
         lua_pushvalue(L, -1);
-        lua_rawseti(L, top + 4, SC_CSGS);
+        lua_rawseti(L, top + 4, LB_SC_CSGS);
     }
     lua_pushvalue(L, idx);
     lua_rawseti(L, -2, id);
@@ -397,9 +397,9 @@ static void add_csg(lua_State *L, int idx, int arg, const lc_transform *t)
 
 /* Adds the shape sh, the userdata at idx, moved by t (NULL: as it is), to
 ** the scene at 1, whose userdata is u: its core pointer is read again after
-** the material's lookup, which may run Lua code (scene_at's comment). */
-static void add_shape(lua_State *L, ud_scene *u, const ud_shape *sh, int idx, int arg,
-                      const lc_transform *t)
+** the material's lookup, which may run Lua code (lb_scene_at's comment). */
+static void add_shape(lua_State *L, lb_ud_scene *u, const lb_ud_shape *sh, int idx,
+                      int arg, const lc_transform *t)
 {
     lc_error err;
     lc_shape moved = sh->s;
@@ -409,8 +409,8 @@ static void add_shape(lua_State *L, ud_scene *u, const ud_shape *sh, int idx, in
     int mat = material_index(L, 1, lua_gettop(L), arg);
     lua_pop(L, 1);
     if (!u->s)
-        luaL_argerror(L, 1, "lancer.Scene already freed");     /* as scene_check */
-    if (u->rendering)                                           /* as scene_at */
+        luaL_argerror(L, 1, "lancer.Scene already freed");     /* as lb_scene_check */
+    if (u->rendering)                                           /* as lb_scene_at */
         luaL_argerror(L, 1, "lancer.Scene is rendering: its render's on_pass cannot "
                       "change, render or query it");
     if (lc_scene_add_shape(u->s, &moved, mat, &err) < 0)
@@ -421,21 +421,21 @@ static void add_one(lua_State *L, int idx, int arg, int xf)
 {
     lc_error err;
     const lc_transform *t = xf_at(L, xf);
-    ud_shape *sh = luaL_testudata(L, idx, SHAPE);
+    lb_ud_shape *sh = luaL_testudata(L, idx, LB_SHAPE);
     if (sh) {
         add_shape(L, lua_touserdata(L, 1), sh, idx, arg, t);
         return;
     }
-    ud_light *li = luaL_testudata(L, idx, LIGHT);
+    lb_ud_light *li = luaL_testudata(L, idx, LB_LIGHT);
     if (li) {
-        ud_light l = *li;
-        if (t && !objects_light_moved(li, t, &l, &err))
+        lb_ud_light l = *li;
+        if (t && !lb_light_moved(li, t, &l, &err))
             lf_raise(L, arg, &err);
-        if (objects_light_add(scene_at(L, 1), &l, &err) < 0)
+        if (lb_light_add(lb_scene_at(L, 1), &l, &err) < 0)
             lf_raise(L, arg, &err);
         return;
     }
-    if (luaL_testudata(L, idx, CSG)) {
+    if (luaL_testudata(L, idx, LB_CSG)) {
         add_csg(L, idx, arg, t);
         return;
     }
@@ -462,8 +462,8 @@ static void add_one(lua_State *L, int idx, int arg, int xf)
     }
     lua_pop(L, 1);
     lua_getiuservalue(L, 1, 1);                    /* so scene:objects() can name it */
-    lua_rawgeti(L, -1, SC_MESHES);
-    lc_scene *s = scene_at(L, 1);
+    lua_rawgeti(L, -1, LB_SC_MESHES);
+    lc_scene *s = lb_scene_at(L, 1);
     lc_mesh *m = mesh_at(L, idx, arg);
     if ((nslots ? lc_scene_add_mesh_materials(s, m, t, slots, (size_t)nslots, &err)
          : t ? lc_scene_add_mesh_moved(s, m, t, mat, &err)
@@ -481,9 +481,9 @@ static void add_one(lua_State *L, int idx, int arg, int xf)
 
 static int w_scene_add(lua_State *L)
 {
-    ud_scene *u = udata_is(L, 1, UP_SCENE);
+    lb_ud_scene *u = lb_udata_is(L, 1, UP_SCENE);
     if (!u || !u->s)
-        u = scene_check(L, 1);                     /* raises */
+        u = lb_scene_check(L, 1);                  /* raises */
     int n = lua_gettop(L);
     if (n < 2)
         return luaL_argerror(L, 2, "shape, mesh, light, group, CSG object or array of "
@@ -492,11 +492,11 @@ static int w_scene_add(lua_State *L)
     ** one at a time): nothing to flatten, move or re-check, as nothing runs
     ** Lua code before add_shape fetches the scene again; the list would
     ** cost a table and its growth per call, a third of the call's time. */
-    const ud_shape *one = n == 2 ? udata_is(L, 2, UP_SHAPE) : NULL;
+    const lb_ud_shape *one = n == 2 ? lb_udata_is(L, 2, UP_SHAPE) : NULL;
     if (one) {
         add_shape(L, u, one, 2, 2, NULL);
         lua_settop(L, 1);
-        lancer_charge(L);
+        lb_charge(L);
         return 1;
     }
     lua_newtable(L);
@@ -514,11 +514,11 @@ static int w_scene_add(lua_State *L)
     for (lua_Integer k = 1; fl.meshes && k <= len; k++) {
         if (lua_rawgeti(L, flat, k) == LUA_TNUMBER)
             arg = (int)lua_tointeger(L, -1);
-        else if (luaL_testudata(L, -1, MESH))
+        else if (luaL_testudata(L, -1, LB_MESH))
             mesh_at(L, -1, arg);
-        else if (luaL_testudata(L, -1, CSG)) {
+        else if (luaL_testudata(L, -1, LB_CSG)) {
             int at = lua_gettop(L);
-            size_t nodes = csg_lua_describe(L, at, NULL, arg);
+            size_t nodes = lb_csg_describe(L, at, NULL, arg);
             for (size_t i = 0; i < nodes; i++)
                 if (lua_rawgeti(L, at + 3, (lua_Integer)i + 1) == LUA_TNIL)
                     lua_pop(L, 1);
@@ -528,7 +528,7 @@ static int w_scene_add(lua_State *L)
         }
         lua_pop(L, 1);
     }
-    scene_check(L, 1);
+    lb_scene_check(L, 1);
     lua_pushnil(L);                                /* flat + 1: the transform */
     int xf = 0;
     for (lua_Integer k = 1; k <= len; k++) {
@@ -548,7 +548,7 @@ static int w_scene_add(lua_State *L)
         lua_settop(L, flat + 1);
     }
     lua_settop(L, 1);
-    lancer_charge(L);
+    lb_charge(L);
     return 1;
 }
 
@@ -556,63 +556,63 @@ static int w_scene_add(lua_State *L)
 ** sharing this scene's material table (same indices) with a moved camera. */
 static int w_scene_transformed(lua_State *L)
 {
-    scene_check(L, 1);
+    lb_scene_check(L, 1);
     double scale = luaL_checknumber(L, 2);
     lc_vec3 off = {0, 0, 0};
     char why[160];
     if (!lua_isnoneornil(L, 3) && !lf_to_vec3(L, 3, &off, why, sizeof why))
         return luaL_argerror(L, 3, why);
-    ud_scene *c = lua_newuserdatauv(L, sizeof *c, 1);      /* before the copy */
+    lb_ud_scene *c = lua_newuserdatauv(L, sizeof *c, 1);   /* before the copy */
     c->s = NULL;
     c->rendering = 0;
     c->mark = clock_seconds();
-    luaL_setmetatable(L, SCENE);
+    luaL_setmetatable(L, LB_SCENE);
     int ci = lua_gettop(L);
     lua_createtable(L, 4, 0);
     lua_getiuservalue(L, 1, 1);
-    lua_rawgeti(L, -1, SC_MATERIALS);
-    lua_rawseti(L, -3, SC_MATERIALS);
-    lua_rawgeti(L, -1, SC_DEFAULT);
-    lua_rawseti(L, -3, SC_DEFAULT);
-    lua_rawgeti(L, -1, SC_MESHES);         /* instances keep their meshes */
-    lua_rawseti(L, -3, SC_MESHES);
-    lua_rawgeti(L, -1, SC_TEXTURES);       /* the copy keeps their order */
-    lua_rawseti(L, -3, SC_TEXTURES);
-    lua_rawgeti(L, -1, SC_BACKGROUND);
-    lua_rawseti(L, -3, SC_BACKGROUND);
+    lua_rawgeti(L, -1, LB_SC_MATERIALS);
+    lua_rawseti(L, -3, LB_SC_MATERIALS);
+    lua_rawgeti(L, -1, LB_SC_DEFAULT);
+    lua_rawseti(L, -3, LB_SC_DEFAULT);
+    lua_rawgeti(L, -1, LB_SC_MESHES);      /* instances keep their meshes */
+    lua_rawseti(L, -3, LB_SC_MESHES);
+    lua_rawgeti(L, -1, LB_SC_TEXTURES);    /* the copy keeps their order */
+    lua_rawseti(L, -3, LB_SC_TEXTURES);
+    lua_rawgeti(L, -1, LB_SC_BACKGROUND);
+    lua_rawseti(L, -3, LB_SC_BACKGROUND);
     lua_pop(L, 1);
     lua_setiuservalue(L, ci, 1);
     lc_error err;
     /* The offset's reads and the allocations above may have run Lua code
     ** (metamethods, finalizers) that closed the scene: fetch it now. */
-    c->s = lc_scene_transformed(scene_at(L, 1), scale, off, &err);
+    c->s = lc_scene_transformed(lb_scene_at(L, 1), scale, off, &err);
     if (!c->s)
         return lf_raise(L, 2, &err);
     lc_camera moved;
     if (lc_scene_camera(c->s, &moved)) {
-        ud_camera *cam = lua_newuserdatauv(L, sizeof *cam, 0);
+        lb_ud_camera *cam = lua_newuserdatauv(L, sizeof *cam, 0);
         cam->c = moved;
-        luaL_setmetatable(L, CAMERA);
+        luaL_setmetatable(L, LB_CAMERA);
         lua_getiuservalue(L, ci, 1);
         lua_insert(L, -2);
-        lua_rawseti(L, -2, SC_CAMERA);
+        lua_rawseti(L, -2, LB_SC_CAMERA);
         lua_pop(L, 1);
     }
     lua_settop(L, ci);
-    lancer_charge(L);
+    lb_charge(L);
     return 1;
 }
 
 static int w_scene_count(lua_State *L)
 {
-    const lc_scene *s = scene_at(L, 1);
+    const lc_scene *s = lb_scene_at(L, 1);
     lua_pushinteger(L, (lua_Integer)lc_scene_shape_count(s));
     lua_pushinteger(L, (lua_Integer)lc_scene_light_count(s));
     return 2;
 }
 static int w_scene_tostring(lua_State *L)
 {
-    ud_scene *u = luaL_checkudata(L, 1, SCENE);
+    lb_ud_scene *u = luaL_checkudata(L, 1, LB_SCENE);
     if (!u->s)
         lua_pushstring(L, "lancer.Scene (freed)");
     else
@@ -631,13 +631,13 @@ static int w_scene_index(lua_State *L)
     ** the key's own string, raw, in the table held here, a sixth of the
     ** by-name look-ups below (callgrind). No method shares a field's name,
     ** so the answer is the one the fields-first order gives. */
-    if (udata_is(L, 1, UP_META)) {
+    if (lb_udata_is(L, 1, UP_META)) {
         lua_pushvalue(L, 2);
         if (lua_rawget(L, UP_METHODS) != LUA_TNIL)
             return 1;
         lua_pop(L, 1);
     }
-    ud_scene *u = luaL_checkudata(L, 1, SCENE);
+    lb_ud_scene *u = luaL_checkudata(L, 1, LB_SCENE);
     const char *k = luaL_checkstring(L, 2);
     if (!u->s) {             /* closed: methods still resolve, and raise there */
         luaL_getmetafield(L, 1, "methods");
@@ -647,10 +647,10 @@ static int w_scene_index(lua_State *L)
     lc_settings st = lc_scene_settings(u->s);
     if (strcmp(k, "camera") == 0) {
         lua_getiuservalue(L, 1, 1);
-        lua_rawgeti(L, -1, SC_CAMERA);
+        lua_rawgeti(L, -1, LB_SC_CAMERA);
     } else if (strcmp(k, "background") == 0 && st.background_texture > 0) {
         lua_getiuservalue(L, 1, 1);
-        lua_rawgeti(L, -1, SC_BACKGROUND);
+        lua_rawgeti(L, -1, LB_SC_BACKGROUND);
     } else if (strcmp(k, "background") == 0) {
         lf_push_color(L, st.background);
     } else if (strcmp(k, "ambient") == 0) {
@@ -666,7 +666,7 @@ static int w_scene_index(lua_State *L)
 
 static int w_scene_newindex(lua_State *L)
 {
-    scene_check(L, 1);
+    lb_scene_check(L, 1);
     const char *k = luaL_checkstring(L, 2);
     char why[200];
     lc_color c = {0, 0, 0};
@@ -674,7 +674,7 @@ static int w_scene_newindex(lua_State *L)
     if (strcmp(k, "camera") == 0) {
         set_camera(L, 1, 3, 0, k);
         return 0;
-    } else if (strcmp(k, "background") == 0 && texture_check(L, 3)) {
+    } else if (strcmp(k, "background") == 0 && lb_texture_check(L, 3)) {
         set_background(L, 1, 3, 3);
         return 0;
     } else if (strcmp(k, "background") == 0 || strcmp(k, "ambient") == 0) {
@@ -694,7 +694,7 @@ static int w_scene_newindex(lua_State *L)
     }
     /* Reading the colour may have run a script's metamethods, which may
     ** have closed the scene or changed its settings: read them now. */
-    lc_scene *s = ((ud_scene *)lua_touserdata(L, 1))->s;
+    lc_scene *s = ((lb_ud_scene *)lua_touserdata(L, 1))->s;
     if (!s)
         return luaL_error(L, "scene.%s: lancer.Scene already freed", k);
     lc_settings st = lc_scene_settings(s);
@@ -712,7 +712,7 @@ static int w_scene_newindex(lua_State *L)
     return 0;
 }
 
-void scene_register(lua_State *L)
+void lb_scene_register(lua_State *L)
 {
     static const luaL_Reg scene_meta[] = {
         {"__gc", w_scene_free}, {"__close", w_scene_free}, {"__tostring", w_scene_tostring},
@@ -720,10 +720,10 @@ void scene_register(lua_State *L)
     static const luaL_Reg scene_methods[] = {
         {"count", w_scene_count},
         {"transformed", w_scene_transformed}, {NULL, NULL}};
-    lancer_class(L, SCENE, scene_meta, scene_methods);
-    luaL_getmetatable(L, SCENE);
+    lb_class(L, LB_SCENE, scene_meta, scene_methods);
+    luaL_getmetatable(L, LB_SCENE);
     lua_getfield(L, -1, "methods");
-    luaL_getmetatable(L, SHAPE);                   /* add, with its upvalues */
+    luaL_getmetatable(L, LB_SHAPE);                /* add, with its upvalues */
     lua_pushvalue(L, -3);
     lua_pushcclosure(L, w_scene_add, 2);
     lua_setfield(L, -2, "add");

@@ -5,15 +5,15 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 
 /* Pushes a table from the core's material index to its material userdata
-** (the inverse of the scene's SC_MATERIALS; the default material is absent). */
+** (the inverse of the scene's LB_SC_MATERIALS; the default material is absent). */
 static void push_materials(lua_State *L, int sidx)
 {
     lua_newtable(L);
     lua_getiuservalue(L, sidx, 1);
-    lua_rawgeti(L, -1, SC_MATERIALS);
+    lua_rawgeti(L, -1, LB_SC_MATERIALS);
     lua_pushnil(L);
     while (lua_next(L, -2)) {                 /* material -> index */
         lua_pushvalue(L, -2);
@@ -29,7 +29,7 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
 {
     lua_createtable(L, 0, 5);
     int e = lua_gettop(L);
-    luaL_setmetatable(L, ENTRY);
+    luaL_setmetatable(L, LB_ENTRY);
     lua_pushinteger(L, (lua_Integer)o->id + 1);    /* Lua counts from 1 */
     lua_setfield(L, e, "id");
     if (o->material >= 0)
@@ -41,18 +41,18 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
     case LC_OBJECT_SHAPE:
         lua_pushstring(L, lc_shape_kind_name(o->shape.kind));
         lua_setfield(L, e, "kind");
-        shapes_push(L, &o->shape, mat);
+        lb_shape_push(L, &o->shape, mat);
         break;
     case LC_OBJECT_MESH:
         lua_pushliteral(L, "mesh");
         lua_setfield(L, e, "kind");
         if (o->moved) {
-            ud_transform *t = lua_newuserdatauv(L, sizeof *t, 0);
+            lb_ud_transform *t = lua_newuserdatauv(L, sizeof *t, 0);
             t->t = o->transform;
-            luaL_setmetatable(L, TRANSFORM);
+            luaL_setmetatable(L, LB_TRANSFORM);
             lua_setfield(L, e, "transform");
         }
-        lua_rawgeti(L, uv, SC_MESHES);
+        lua_rawgeti(L, uv, LB_SC_MESHES);
         lua_pushlightuserdata(L, o->mesh);
         lua_rawget(L, -2);
         lua_remove(L, -2);
@@ -60,17 +60,17 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
     case LC_OBJECT_CSG:
         lua_pushstring(L, lc_csg_op_name(o->csg[0].op));
         lua_setfield(L, e, "kind");
-        lua_rawgeti(L, uv, SC_MESHES);
-        csg_lua_push_listed(L, o->csg, o->csg_nodes, mats, -1);
+        lua_rawgeti(L, uv, LB_SC_MESHES);
+        lb_csg_push_listed(L, o->csg, o->csg_nodes, mats, -1);
         lua_remove(L, -2);
         break;
     default: {
-        ud_light l = objects_light_of(o);
+        lb_ud_light l = lb_light_of(o);
         lua_pushstring(L, o->kind == LC_OBJECT_SPOT_LIGHT ? "spot_light" :
                           o->kind == LC_OBJECT_DIRECTIONAL_LIGHT ? "directional_light" :
                           "point_light");
         lua_setfield(L, e, "kind");
-        objects_push_light(L, &l);
+        lb_light_push(L, &l);
         break;
     }
     }
@@ -83,9 +83,9 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
 ** Ids count from 1 (the core's from 0), and stay with their object. */
 static int w_scene_objects(lua_State *L)
 {
-    size_t n = lc_scene_object_count(scene_at(L, 1));
+    size_t n = lc_scene_object_count(lb_scene_at(L, 1));
     lc_object *objs = lua_newuserdatauv(L, (n + 1) * sizeof *objs, 0);  /* Lua frees it */
-    n = lc_scene_objects(scene_at(L, 1), objs, n);   /* after it: it may run Lua */
+    n = lc_scene_objects(lb_scene_at(L, 1), objs, n); /* after it: it may run Lua */
     push_materials(L, 1);
     int mats = lua_gettop(L);
     lua_getiuservalue(L, 1, 1);
@@ -103,10 +103,10 @@ static int same_vec(lc_vec3 a, lc_vec3 b) { return a.x == b.x && a.y == b.y && a
 /* Whether the scene's object o is the value at idx (a shape, light or mesh). */
 static int matches(lua_State *L, int idx, const lc_object *o)
 {
-    ud_shape *sh = luaL_testudata(L, idx, SHAPE);
+    lb_ud_shape *sh = luaL_testudata(L, idx, LB_SHAPE);
     if (sh)
-        return o->kind == LC_OBJECT_SHAPE && shapes_match(&sh->s, &o->shape);
-    ud_light *li = luaL_testudata(L, idx, LIGHT);
+        return o->kind == LC_OBJECT_SHAPE && lb_shape_match(&sh->s, &o->shape);
+    lb_ud_light *li = luaL_testudata(L, idx, LB_LIGHT);
     if (li && li->kind == LC_OBJECT_SPOT_LIGHT)
         return o->kind == li->kind && same_vec(li->spot.position, o->spot.position) &&
                same_vec(li->spot.direction, o->spot.direction) &&
@@ -117,7 +117,7 @@ static int matches(lua_State *L, int idx, const lc_object *o)
     if (li)
         return o->kind == LC_OBJECT_LIGHT && same_vec(li->l.position, o->light.position) &&
                li->l.intensity == o->light.intensity;
-    ud_mesh *me = luaL_testudata(L, idx, MESH);
+    lb_ud_mesh *me = luaL_testudata(L, idx, LB_MESH);
     return me && o->kind == LC_OBJECT_MESH && me->m == o->mesh;
 }
 
@@ -125,7 +125,7 @@ static int matches(lua_State *L, int idx, const lc_object *o)
 ** light, mesh or CSG object that was added, when it was added once. */
 static int w_scene_remove(lua_State *L)
 {
-    scene_check(L, 1);
+    lb_scene_check(L, 1);
     lc_error err;
     int id = -1;
     if (lua_type(L, 2) == LUA_TTABLE) {
@@ -143,17 +143,17 @@ static int w_scene_remove(lua_State *L)
         id = i < 1 || i > 0x7fffffff ? -1 : (int)(i - 1);
         if (id < 0)
             return luaL_argerror(L, 2, lua_pushfstring(L, "no object %I in this scene", i));
-    } else if (luaL_testudata(L, 2, CSG)) {
+    } else if (luaL_testudata(L, 2, LB_CSG)) {
         /* The ids it was added under (as itself, not inside a group). */
         int found = 0, other = -1;
         lua_getiuservalue(L, 1, 1);
-        if (lua_rawgeti(L, -1, SC_CSGS) == LUA_TTABLE) {
+        if (lua_rawgeti(L, -1, LB_SC_CSGS) == LUA_TTABLE) {
             lua_pushnil(L);
             while (lua_next(L, -2)) {
                 lc_object o;
                 int k = (int)lua_tointeger(L, -2);
                 if (lua_rawequal(L, -1, 2) &&
-                    lc_scene_object(scene_at(L, 1), k, &o, &err) == LC_OK) {
+                    lc_scene_object(lb_scene_at(L, 1), k, &o, &err) == LC_OK) {
                     if (found == 0 || k < id) {
                         other = found ? id : other;
                         id = k;
@@ -174,12 +174,12 @@ static int w_scene_remove(lua_State *L)
                                                        "one by id", found, id + 1,
                                                        other + 1, found > 2 ? ", ..." :
                                                        ""));
-    } else if (luaL_testudata(L, 2, SHAPE) || luaL_testudata(L, 2, LIGHT) ||
-               luaL_testudata(L, 2, MESH)) {
+    } else if (luaL_testudata(L, 2, LB_SHAPE) || luaL_testudata(L, 2, LB_LIGHT) ||
+               luaL_testudata(L, 2, LB_MESH)) {
         const char *what = luaL_tolstring(L, 2, NULL);   /* may run a __tostring */
-        size_t n = lc_scene_object_count(scene_at(L, 1));
+        size_t n = lc_scene_object_count(lb_scene_at(L, 1));
         lc_object *objs = lua_newuserdatauv(L, (n + 1) * sizeof *objs, 0);
-        n = lc_scene_objects(scene_at(L, 1), objs, n);
+        n = lc_scene_objects(lb_scene_at(L, 1), objs, n);
         int found = 0, other = -1;
         for (size_t i = 0; i < n; i++)
             if (matches(L, 2, &objs[i])) {
@@ -202,7 +202,7 @@ static int w_scene_remove(lua_State *L)
                                                    "expected, got %s",
                                                    luaL_typename(L, 2)));
     }
-    if (lc_scene_remove(scene_at(L, 1), id, &err))
+    if (lc_scene_remove(lb_scene_at(L, 1), id, &err))
         return luaL_argerror(L, 2, lua_pushfstring(L, "no object %d in this scene (%s)",
                                                    id + 1, strstr(err.msg, "removed") ?
                                                    "it was removed" : "never added"));
@@ -238,14 +238,14 @@ static int w_entry_tostring(lua_State *L)
     return 1;
 }
 
-void scene_objects_register(lua_State *L)
+void lb_scene_objects_register(lua_State *L)
 {
     static const luaL_Reg methods[] = {
         {"objects", w_scene_objects}, {"remove", w_scene_remove}, {NULL, NULL}};
     static const luaL_Reg entry_meta[] = {{"__tostring", w_entry_tostring}, {NULL, NULL}};
-    luaL_getmetatable(L, SCENE);
+    luaL_getmetatable(L, LB_SCENE);
     lua_getfield(L, -1, "methods");
     luaL_setfuncs(L, methods, 0);
     lua_pop(L, 2);
-    lancer_class(L, ENTRY, entry_meta, NULL);
+    lb_class(L, LB_ENTRY, entry_meta, NULL);
 }

@@ -6,13 +6,13 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 
 /* Each kind's fields, in the order the constructor reads them and
 ** __tostring writes them; each names the lc_shape member that holds it.
 ** __tostring, __index, scene:objects() and scene:remove() read this table
 ** and nothing else about a kind, so a new kind adds its row here, its
-** constructor below and its entry in shapes_register's list. Kind names
+** constructor below and its entry in lb_shapes_register's list. Kind names
 ** are the core's (lc_shape_kind_name). */
 typedef enum { FIELD_VEC3, FIELD_NUMBER, FIELD_BOOL } field_type;
 
@@ -49,9 +49,9 @@ static const shape_field kind_fields[LC_SHAPE_KINDS][MAX_FIELDS + 1] = {
 /* A lancer.Transform holding t (a moved shape's placement). */
 static void push_transform(lua_State *L, const lc_transform *t)
 {
-    ud_transform *u = lua_newuserdatauv(L, sizeof *u, 0);
+    lb_ud_transform *u = lua_newuserdatauv(L, sizeof *u, 0);
     u->t = *t;
-    luaL_setmetatable(L, TRANSFORM);
+    luaL_setmetatable(L, LB_TRANSFORM);
 }
 
 static int *int_of(lc_shape *s, const shape_field *f)
@@ -114,11 +114,11 @@ static void shape_read(lua_State *L, lc_shape *s, const char *skip)
 /* Validates, then pushes the shape userdata holding `s` and its material. */
 static int shape_push_checked(lua_State *L, const lc_shape *s)
 {
-    lf_udata(L, 1, "material", MATERIAL, 0);        /* pushes it, or nil */
+    lf_udata(L, 1, "material", LB_MATERIAL, 0);     /* pushes it, or nil */
     lc_error err;
     if (lc_shape_check(s, &err))
         return lf_raise(L, 1, &err);
-    shapes_push(L, s, -1);
+    lb_shape_push(L, s, -1);
     return 1;
 }
 
@@ -126,12 +126,12 @@ static int shape_push_checked(lua_State *L, const lc_shape *s)
 #define UP_SHAPE    lua_upvalueindex(1)
 #define UP_MATERIAL lua_upvalueindex(2)
 
-/* shapes_push, with the shape metatable at stack index mt. */
+/* lb_shape_push, with the shape metatable at stack index mt. */
 static void push_shape(lua_State *L, const lc_shape *s, int mat, int mt)
 {
     mat = lua_absindex(L, mat);
     mt = lua_absindex(L, mt);
-    ud_shape *u = lua_newuserdatauv(L, sizeof *u, 1);
+    lb_ud_shape *u = lua_newuserdatauv(L, sizeof *u, 1);
     u->s = *s;
     lua_pushvalue(L, mat);
     lua_setiuservalue(L, -2, 1);
@@ -189,7 +189,7 @@ static int shape_read_plain(lua_State *L, lc_shape *s)
         const shape_field *f = &fields[i];
         int t = lua_type(L, -1);
         if (!f->name) {
-            if (strcmp(k, "material") || !udata_is(L, -1, UP_MATERIAL))
+            if (strcmp(k, "material") || !lb_udata_is(L, -1, UP_MATERIAL))
                 return 0;
             lua_copy(L, -1, 2);
         } else if (f->type == FIELD_VEC3) {
@@ -308,15 +308,15 @@ static int w_cone(lua_State *L) { return axial(L, LC_CONE); }
 
 /* ---- what every kind shares ------------------------------------------------ */
 
-void shapes_push(lua_State *L, const lc_shape *s, int mat)
+void lb_shape_push(lua_State *L, const lc_shape *s, int mat)
 {
     mat = lua_absindex(L, mat);
-    luaL_getmetatable(L, SHAPE);
+    luaL_getmetatable(L, LB_SHAPE);
     push_shape(L, s, mat, -1);
     lua_remove(L, -2);
 }
 
-int shapes_match(const lc_shape *added, const lc_shape *listed)
+int lb_shape_match(const lc_shape *added, const lc_shape *listed)
 {
     lc_shape a, b = *listed;
     lc_error err;
@@ -341,7 +341,7 @@ int shapes_match(const lc_shape *added, const lc_shape *listed)
 /* lancer.sphere{center = {0, 0, 0}, radius = 1}: the fields as given. */
 static int w_shape_tostring(lua_State *L)
 {
-    lc_shape s = ((ud_shape *)luaL_checkudata(L, 1, SHAPE))->s;
+    lc_shape s = ((lb_ud_shape *)luaL_checkudata(L, 1, LB_SHAPE))->s;
     luaL_Buffer b;
     luaL_buffinit(L, &b);
     luaL_addstring(&b, "lancer.");
@@ -374,7 +374,7 @@ static int w_shape_tostring(lua_State *L)
 
 static int w_shape_index(lua_State *L)
 {
-    lc_shape s = ((ud_shape *)luaL_checkudata(L, 1, SHAPE))->s;
+    lc_shape s = ((lb_ud_shape *)luaL_checkudata(L, 1, LB_SHAPE))->s;
     const char *k = luaL_checkstring(L, 2);
     const shape_field *f = field_named(s.kind, k);
     if (f && f->type == FIELD_VEC3) lf_push_vec3(L, *vec3_of(&s, f));
@@ -383,12 +383,12 @@ static int w_shape_index(lua_State *L)
     else if (strcmp(k, "transform") == 0 && s.moved) push_transform(L, &s.xf);
     else if (strcmp(k, "kind") == 0) lua_pushstring(L, lc_shape_kind_name(s.kind));
     else if (strcmp(k, "material") == 0) lua_getiuservalue(L, 1, 1);
-    else if (strcmp(k, "moved") == 0) lua_pushcfunction(L, motion_moved);
+    else if (strcmp(k, "moved") == 0) lua_pushcfunction(L, lb_motion_moved);
     else lua_pushnil(L);
     return 1;
 }
 
-void shapes_register(lua_State *L)
+void lb_shapes_register(lua_State *L)
 {
     static const luaL_Reg shape_meta[] = {
         {"__tostring", w_shape_tostring}, {"__index", w_shape_index}, {NULL, NULL}};
@@ -396,8 +396,8 @@ void shapes_register(lua_State *L)
         {"sphere", w_sphere}, {"quad", w_quad}, {"box", w_box}, {"plane", w_plane},
         {"disc", w_disc}, {"cylinder", w_cylinder}, {"cone", w_cone}, {"torus", w_torus},
         {"ellipsoid", w_ellipsoid}, {NULL, NULL}};
-    lancer_class(L, SHAPE, shape_meta, NULL);
-    luaL_getmetatable(L, SHAPE);                   /* UP_SHAPE */
-    luaL_getmetatable(L, MATERIAL);                /* UP_MATERIAL: objects_register's */
+    lb_class(L, LB_SHAPE, shape_meta, NULL);
+    luaL_getmetatable(L, LB_SHAPE);                /* UP_SHAPE */
+    luaL_getmetatable(L, LB_MATERIAL);     /* UP_MATERIAL: lb_objects_register's */
     luaL_setfuncs(L, funcs, 2);
 }

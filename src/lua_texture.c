@@ -7,7 +7,7 @@
 #include <lua.h>
 #include "lancer.h"
 #include "lua_fields.h"
-#include "lua_types.h"
+#include "lua_binding.h"
 
 /* A texture's user values: the textures standing for a, b and amount, and
 ** the image of an image texture (nil where none). */
@@ -21,11 +21,11 @@ static const char *const wrap_opts[] = {"repeat", "clamp", "mirror", NULL};
 static const char *const filter_opts[] = {"bilinear", "nearest", NULL};
 static const char *const encoding_opts[] = {"srgb", "linear", NULL};
 
-static ud_texture *push_texture(lua_State *L, const lc_texture *t)
+static lb_ud_texture *push_texture(lua_State *L, const lc_texture *t)
 {
-    ud_texture *u = lua_newuserdatauv(L, sizeof *u, TU_COUNT);
+    lb_ud_texture *u = lua_newuserdatauv(L, sizeof *u, TU_COUNT);
     u->t = *t;
-    luaL_setmetatable(L, TEXTURE);
+    luaL_setmetatable(L, LB_TEXTURE);
     return u;
 }
 
@@ -34,7 +34,7 @@ static ud_texture *push_texture(lua_State *L, const lc_texture *t)
 static void read_slot(lua_State *L, const char *field, lc_color *c, int tex, int uv)
 {
     lua_getfield(L, 1, field);
-    if (luaL_testudata(L, -1, TEXTURE)) {
+    if (luaL_testudata(L, -1, LB_TEXTURE)) {
         lua_setiuservalue(L, tex, uv);
         return;
     }
@@ -46,7 +46,7 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
 {
     lf_open(L, 1, known);
     lc_texture t = lc_texture_default(kind);
-    ud_texture *u = push_texture(L, &t);
+    lb_ud_texture *u = push_texture(L, &t);
     int tex = lua_gettop(L);
     if (kind == LC_TEX_SKY) {            /* zenith, horizon, ground: colours */
         t.a = lf_color(L, 1, "zenith", 1, t.a);
@@ -77,7 +77,7 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
         int has_image = !lua_isnil(L, -1);
         lua_pop(L, 1);
         if (has_image) {
-            lf_udata(L, 1, "image", IMAGE, 1);
+            lf_udata(L, 1, "image", LB_IMAGE, 1);
         } else {
             /* A PNG's colours are sRGB-encoded; a normal or height map's
             ** values are data, read as stored with encoding = 'linear'. */
@@ -86,7 +86,7 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
             if (!lua_isstring(L, -1))
                 return lf_error(L, 1, "image", "an image or a path to a PNG or .hdr file "
                                 "expected");
-            lancer_check_file(L, 1, lua_tostring(L, -1), 0);
+            lb_check_file(L, 1, lua_tostring(L, -1), 0);
             lc_error err;
             const char *path = lua_tostring(L, -1), *dot = strrchr(path, '.');
             int hdr = dot && (strcmp(dot, ".hdr") == 0 || strcmp(dot, ".HDR") == 0);
@@ -94,10 +94,10 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
                                 : lc_image_load_png(path, enc, &err);
             if (!img)
                 return lf_error(L, 1, "path", "%s", err.msg);
-            ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);
+            lb_ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);
             ui->img = img;
-            luaL_setmetatable(L, IMAGE);
-            lancer_charge(L);
+            luaL_setmetatable(L, LB_IMAGE);
+            lb_charge(L);
         }
         lua_setiuservalue(L, tex, TU_IMAGE);
         t.wrap = (lc_texture_wrap)lf_option(L, 1, "wrap", wrap_opts, (int)t.wrap);
@@ -107,7 +107,7 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
     }
     case LC_TEX_MIX:
         lua_getfield(L, 1, "amount");
-        if (luaL_testudata(L, -1, TEXTURE)) {
+        if (luaL_testudata(L, -1, LB_TEXTURE)) {
             lua_setiuservalue(L, tex, TU_AMOUNT);
         } else {
             lua_pop(L, 1);
@@ -123,7 +123,7 @@ static int make(lua_State *L, lc_texture_kind kind, const char *const known[])
     probe.ta = probe.tb = probe.tamount = 0;
     if (kind == LC_TEX_IMAGE) {
         lua_getiuservalue(L, tex, TU_IMAGE);
-        ud_image *ui = luaL_checkudata(L, -1, IMAGE);
+        lb_ud_image *ui = luaL_checkudata(L, -1, LB_IMAGE);
         if (!ui->img)
             return lf_error(L, 1, "image", "the image is freed");
         probe.image = ui->img;
@@ -194,8 +194,8 @@ static int w_mix(lua_State *L)
 /* tex:moved(T): the same texture placed by T after its own placement. */
 static int w_texture_moved(lua_State *L)
 {
-    ud_texture *u = luaL_checkudata(L, 1, TEXTURE);
-    ud_transform *tr = luaL_checkudata(L, 2, TRANSFORM);
+    lb_ud_texture *u = luaL_checkudata(L, 1, LB_TEXTURE);
+    lb_ud_transform *tr = luaL_checkudata(L, 2, LB_TRANSFORM);
     lc_texture t = u->t;
     t.xf = t.moved ? lc_transform_compose(&tr->t, &t.xf) : tr->t;
     t.moved = 1;
@@ -212,7 +212,7 @@ static int w_texture_moved(lua_State *L)
 
 static int w_texture_tostring(lua_State *L)
 {
-    ud_texture *u = luaL_checkudata(L, 1, TEXTURE);
+    lb_ud_texture *u = luaL_checkudata(L, 1, LB_TEXTURE);
     lua_pushfstring(L, "lancer.%s{...}%s", kind_names[u->t.kind],
                     u->t.moved ? " moved" : "");
     return 1;
@@ -220,7 +220,7 @@ static int w_texture_tostring(lua_State *L)
 
 static int w_texture_index(lua_State *L)
 {
-    ud_texture *u = luaL_checkudata(L, 1, TEXTURE);
+    lb_ud_texture *u = luaL_checkudata(L, 1, LB_TEXTURE);
     const char *k = luaL_checkstring(L, 2);
     if (strcmp(k, "kind") == 0)
         lua_pushstring(L, kind_names[u->t.kind]);
@@ -235,7 +235,7 @@ static int w_texture_index(lua_State *L)
 
 /* ---- in a scene ------------------------------------------------------------------ */
 
-int texture_scene_index(lua_State *L, int sidx, int tidx, int arg, int depth)
+int lb_texture_scene_index(lua_State *L, int sidx, int tidx, int arg, int depth)
 {
     tidx = lua_absindex(L, tidx);
     sidx = lua_absindex(L, sidx);
@@ -243,7 +243,7 @@ int texture_scene_index(lua_State *L, int sidx, int tidx, int arg, int depth)
         return luaL_argerror(L, arg, "textures nest too deep");
     lua_getiuservalue(L, sidx, 1);
     int uv = lua_gettop(L);
-    lua_rawgeti(L, uv, SC_TEXTURES);
+    lua_rawgeti(L, uv, LB_SC_TEXTURES);
     int known = lua_gettop(L);
     lua_pushvalue(L, tidx);
     if (lua_rawget(L, known) == LUA_TNUMBER) {
@@ -252,24 +252,24 @@ int texture_scene_index(lua_State *L, int sidx, int tidx, int arg, int depth)
         return index;
     }
     lua_pop(L, 1);
-    ud_texture *u = luaL_checkudata(L, tidx, TEXTURE);
+    lb_ud_texture *u = luaL_checkudata(L, tidx, LB_TEXTURE);
     lc_texture t = u->t;
     int *refs[3] = {&t.ta, &t.tb, &t.tamount};
     for (int k = 0; k < 3; k++) {
         if (lua_getiuservalue(L, tidx, TU_A + k) == LUA_TUSERDATA)
-            *refs[k] = 1 + texture_scene_index(L, sidx, -1, arg, depth + 1);
+            *refs[k] = 1 + lb_texture_scene_index(L, sidx, -1, arg, depth + 1);
         lua_pop(L, 1);
     }
     if (t.kind == LC_TEX_IMAGE) {
         lua_getiuservalue(L, tidx, TU_IMAGE);
-        ud_image *ui = luaL_checkudata(L, -1, IMAGE);
+        lb_ud_image *ui = luaL_checkudata(L, -1, LB_IMAGE);
         if (!ui->img)
             return luaL_argerror(L, arg, "an image texture's image was freed");
         t.image = ui->img;
         lua_pop(L, 1);
     }
     lc_error err;
-    int index = lc_scene_add_texture(scene_at(L, sidx), &t, &err);
+    int index = lc_scene_add_texture(lb_scene_at(L, sidx), &t, &err);
     if (index < 0)
         return lf_raise(L, arg, &err);
     lua_pushvalue(L, tidx);
@@ -279,16 +279,17 @@ int texture_scene_index(lua_State *L, int sidx, int tidx, int arg, int depth)
     return index;
 }
 
-void texture_push_png(lua_State *L, const char *path, const char *what, lc_encoding enc)
+void lb_texture_push_png(lua_State *L, const char *path, const char *what,
+                         lc_encoding enc)
 {
     lc_error err;
     lc_image *img = lc_image_load_png(path, enc, &err);
     if (!img)
         luaL_error(L, "%s: %s", what, err.msg);
-    ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);
+    lb_ud_image *ui = lua_newuserdatauv(L, sizeof *ui, 0);
     ui->img = img;
-    luaL_setmetatable(L, IMAGE);
-    lancer_charge(L);
+    luaL_setmetatable(L, LB_IMAGE);
+    lb_charge(L);
     lc_texture t = lc_texture_default(LC_TEX_IMAGE);
     t.image = img;
     push_texture(L, &t);
@@ -296,16 +297,16 @@ void texture_push_png(lua_State *L, const char *path, const char *what, lc_encod
     lua_setiuservalue(L, -2, TU_IMAGE);
 }
 
-int texture_check(lua_State *L, int idx)
+int lb_texture_check(lua_State *L, int idx)
 {
-    return luaL_testudata(L, idx, TEXTURE) != NULL;
+    return luaL_testudata(L, idx, LB_TEXTURE) != NULL;
 }
 
-void texture_register(lua_State *L)
+void lb_texture_register(lua_State *L)
 {
     static const luaL_Reg meta[] = {
         {"__tostring", w_texture_tostring}, {"__index", w_texture_index}, {NULL, NULL}};
-    luaL_newmetatable(L, TEXTURE);
+    luaL_newmetatable(L, LB_TEXTURE);
     luaL_setfuncs(L, meta, 0);
     lua_pop(L, 1);
     static const luaL_Reg ctors[] = {

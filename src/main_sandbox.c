@@ -211,7 +211,7 @@ static int w_merge_args(lua_State *L)
 }
 
 /* The binding's gate for the files it opens itself (an OBJ's .mtl and
-** texture maps, an image texture's path): lua_types.h, LANCER_FILE_GATE. */
+** texture maps, an image texture's path): lua_binding.h, LB_FILE_GATE. */
 static int w_file_gate(lua_State *L)
 {
     const char *path = luaL_checkstring(L, 1);
