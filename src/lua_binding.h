@@ -102,6 +102,12 @@ void lb_charge(lua_State *L);
 #define LB_FILE_GATE "lancer.file_gate"
 void lb_check_file(lua_State *L, int arg, const char *path, int writing);
 
+/* lua_warn.c: installs the binding's warn function (once a state), which
+** writes lancer's warnings to stderr; lb_warn gives one, "lancer: warning:
+** msg", through lua_warning. */
+void lb_warn_install(lua_State *L);
+void lb_warn(lua_State *L, const char *msg);
+
 /* Each file registers its metatables and sets its constructors in the module
 ** table at the top of the stack. */
 void lb_objects_register(lua_State *L);  /* lua_objects.c: materials, lights, cameras */

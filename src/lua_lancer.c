@@ -85,6 +85,7 @@ int luaopen_lancer_core(lua_State *L)
     a->last = lc_memory_used();
     a->pending = 0;
     lua_rawsetp(L, LUA_REGISTRYINDEX, &account_key);
+    lb_warn_install(L);
     lua_newtable(L);
     lb_objects_register(L);
     lb_shapes_register(L);

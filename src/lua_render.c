@@ -1,6 +1,5 @@
 /* lua_render.c: scene:render: its options, the statistics table, the render. */
 #include <math.h>
-#include <stdio.h>
 #include <string.h>
 #include <lauxlib.h>
 #include <lua.h>
@@ -452,7 +451,7 @@ static int render_plain(lua_State *L)
 
 /* scene:render{width = , height = , samples = , ...}: img, stats. The
 ** warning in the statistics it returns (the hook's, when one is set: once
-** for each render the script asked for) goes to stderr on one line. */
+** for each render the script asked for) is a Lua warning (lua_warn.c). */
 static int w_scene_render(lua_State *L)
 {
     lc_render_options o;
@@ -462,10 +461,8 @@ static int w_scene_render(lua_State *L)
     if (n < 0)
         n = render_work(L, &o, show, 0);
     if (n >= 2 && lua_type(L, -n + 1) == LUA_TTABLE) {
-        if (lua_getfield(L, -n + 1, "warning") == LUA_TSTRING) {
-            fprintf(stderr, "lancer: warning: %s\n", lua_tostring(L, -1));
-            fflush(stderr);
-        }
+        if (lua_getfield(L, -n + 1, "warning") == LUA_TSTRING)
+            lb_warn(L, lua_tostring(L, -1));
         lua_pop(L, 1);
     }
     return n;
