@@ -592,19 +592,12 @@ void sandbox_openlibs(lua_State *L)
 static const char RUNS[] = "a sandboxed scene runs no programs";
 static const char NOTVERIFIED[] = "Lua does not verify binary chunks";
 
-int sandbox_seal(lua_State *L)
+/* lancer.core: the hook around the command's; checked loaders; and no
+** set_host_hook, which would take the hook away. P: the policy's index. */
+static void seal_core(lua_State *L, int P)
 {
-    const struct sandbox_policy *p = lua_touserdata(L, 1);
-    struct policy *pol = lua_newuserdatauv(L, sizeof *pol, 0);
-    int P = lua_gettop(L), core, G, loaded, package;
-    resolve_dir(L, p->read_dir, pol->read, "the scene's folder");
-    resolve_dir(L, p->write_dir, pol->write, "the output folder");
-    pol->no_write = p->no_write ? p->no_write : "no output folder was given";
-
-    /* lancer.core: the hook around the command's; checked loaders; and no
-    ** set_host_hook, which would take the hook away. */
     luaL_requiref(L, "lancer.core", luaopen_lancer_core, 0);
-    core = lua_gettop(L);
+    int core = lua_gettop(L);
     install_hook(L, core, P);
     wrap_loader(L, core, "load_obj", P);
     wrap_loader(L, core, "load_png", P);
@@ -621,16 +614,14 @@ int sandbox_seal(lua_State *L)
     replace_everywhere(L, core, "merge_tiles");
     lua_pushnil(L);
     replace_everywhere(L, core, "set_host_hook");
+    lua_settop(L, core - 1);
+}
 
-    chunks(L, P);
-    lua_pushglobaltable(L);
-    G = lua_gettop(L);
-    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
-    loaded = lua_gettop(L);
-    lua_getfield(L, loaded, LUA_LOADLIBNAME);
-    package = lua_gettop(L);
-
-    /* require: lancer's modules only, from package.preload or lua_path. */
+/* require: lancer's modules only, from package.preload or lua_path; the
+** scene's package: nothing that loads or finds files. G, package: the
+** global table's and the package library's indices. */
+static void seal_package(lua_State *L, int G, int package, const char *lua_path, int P)
+{
     lua_pushvalue(L, package);
     lua_getfield(L, G, "require");
     lua_pushcclosure(L, w_require, 2);
@@ -643,13 +634,12 @@ int sandbox_seal(lua_State *L)
     push_searcher(L, package, P);
     lua_rawseti(L, -2, 2);
     lua_setfield(L, package, "searchers");
-    lua_pushstring(L, p->lua_path ? p->lua_path : "");
+    lua_pushstring(L, lua_path ? lua_path : "");
     lua_setfield(L, package, "path");
     lua_pushliteral(L, "");
     lua_setfield(L, package, "cpath");
     lua_pushnil(L);
     lua_setfield(L, package, "loadlib");
-    /* The scene's package: nothing that loads or finds files. */
     lua_createtable(L, 0, 5);
     lua_getfield(L, package, "config");
     lua_setfield(L, -2, "config");
@@ -661,7 +651,13 @@ int sandbox_seal(lua_State *L)
     refuse(L, -1, "searchpath", "package.searchpath",
            "a sandboxed scene finds no files");
     lua_setfield(L, G, "package");
+}
 
+/* debug gone, and what of string, os and io runs programs, leaves the
+** folders or reaches the process refused or checked. loaded: the index of
+** package.loaded. */
+static void seal_libs(lua_State *L, int G, int loaded, int P)
+{
     /* debug: gone from the state; the name answers with a refusal. */
     lua_pushnil(L);
     lua_setfield(L, loaded, LUA_DBLIBNAME);
@@ -694,6 +690,25 @@ int sandbox_seal(lua_State *L)
     wrap(L, -1, "input", w_read_arg, P);
     wrap(L, -1, "output", w_write_arg, P);
     lua_pop(L, 1);
+}
+
+int sandbox_seal(lua_State *L)
+{
+    const struct sandbox_policy *p = lua_touserdata(L, 1);
+    struct policy *pol = lua_newuserdatauv(L, sizeof *pol, 0);
+    int P = lua_gettop(L);
+    resolve_dir(L, p->read_dir, pol->read, "the scene's folder");
+    resolve_dir(L, p->write_dir, pol->write, "the output folder");
+    pol->no_write = p->no_write ? p->no_write : "no output folder was given";
+    seal_core(L, P);
+    chunks(L, P);
+    lua_pushglobaltable(L);
+    int G = lua_gettop(L);
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+    int loaded = lua_gettop(L);
+    lua_getfield(L, loaded, LUA_LOADLIBNAME);
+    seal_package(L, G, lua_gettop(L), p->lua_path, P);
+    seal_libs(L, G, loaded, P);
     return 0;
 }
 
