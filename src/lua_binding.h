@@ -82,8 +82,8 @@ enum { LB_SC_CAMERA = 1, LB_SC_MATERIALS = 2, LB_SC_DEFAULT = 3, LB_SC_MESHES = 
        LB_SC_TEXTURES = 5, LB_SC_CSGS = 6,
        LB_SC_BACKGROUND = 7 }; /* the background's texture, when it is one */
 
-/* A metatable `name` with the metamethods `meta` and, when given, methods
-** that its __index looks up under "methods". */
+/* lua_lancer.c: a metatable `name` with the metamethods `meta` and, when
+** given, methods that its __index looks up under "methods". */
 void lb_class(lua_State *L, const char *name, const luaL_Reg *meta,
               const luaL_Reg *methods);
 
@@ -102,6 +102,58 @@ void lb_charge(lua_State *L);
 #define LB_FILE_GATE "lancer.file_gate"
 void lb_check_file(lua_State *L, int arg, const char *path, int writing);
 
+/* lua_record.c: materials, lights and cameras as field tables, as shapes
+** (lua_shapes.c) are: each kind's constructor, __index, __tostring and
+** scene:objects() read its table and nothing else about its fields, so a
+** field is one row. A row names a member of the record (lc_material,
+** lb_ud_light, lc_camera) by its offset. */
+typedef enum {
+    LB_VEC3, LB_COLOR, LB_NUMBER, LB_INTEGER, LB_BOOL,
+    LB_OPTION,          /* an enum, named by opts */
+    LB_TEXTURE_ONLY     /* no member: only a texture stands for it (a bump map) */
+} lb_field_type;
+
+/* When __tostring writes a field: always; when it differs from the
+** default (so a plain material prints as it always did); when the field
+** before it is written; never. */
+typedef enum { LB_SHOWN, LB_SHOWN_CHANGED, LB_SHOWN_WITH_PREV, LB_UNSHOWN } lb_shown;
+
+#define LB_MAX_FIELDS 24   /* a kind's fields at most; lb_record_read's skip bits */
+
+typedef struct {
+    const char   *name;       /* NULL ends a kind's list */
+    size_t        offset;     /* of its member in the record */
+    lb_field_type type;
+    int           required;   /* 0: absent keeps the record's default */
+    lb_shown      shown;
+    const char *const *opts;  /* LB_OPTION: the names of its values, in order */
+    const char   *also;       /* another field the constructor reads for it, or NULL */
+    /* Reads it when its type's reader does not do (a field given one of two
+    ** ways, a default that depends on another field), or NULL. */
+    void (*read)(lua_State *L, int arg, void *rec);
+    int           slot;       /* materials: 1 + the lc_slot a texture may fill, or 0 */
+    int           rank;       /* its place in __tostring, from 1, when that is not
+                              ** its row's (the rows' order is the constructor's,
+                              ** which its unknown-field error lists); 0: its row's */
+} lb_field;
+
+/* The field named name, or NULL. */
+const lb_field *lb_record_field(const lb_field *fields, const char *name);
+/* lf_open of the table at arg against the fields' names (and alsos). */
+void lb_record_open(lua_State *L, int arg, const lb_field *fields);
+/* Reads every field (but those whose bit, 1 << its index, is in skip) from
+** the table at arg into rec, which holds the defaults. */
+void lb_record_read(lua_State *L, int arg, void *rec, const lb_field *fields,
+                    unsigned skip);
+/* Pushes the value of field f of rec (nil: LB_TEXTURE_ONLY). */
+void lb_record_push(lua_State *L, const void *rec, const lb_field *f);
+/* Whether every field holds the same value in a and b. */
+int  lb_record_equal(const void *a, const void *b, const lb_field *fields);
+/* Adds "ctor{name = value, ...}", the fields shown as their lb_shown says
+** against the default record def, in their rows' order or their ranks'. */
+void lb_record_tostring(luaL_Buffer *b, const char *ctor, const void *rec,
+                        const void *def, const lb_field *fields);
+
 /* lua_warn.c: installs the binding's warn function (once a state), which
 ** writes lancer's warnings to stderr; lb_warn gives one, "lancer: warning:
 ** msg", through lua_warning. */
@@ -110,7 +162,9 @@ void lb_warn(lua_State *L, const char *msg);
 
 /* Each file registers its metatables and sets its constructors in the module
 ** table at the top of the stack. */
-void lb_objects_register(lua_State *L);  /* lua_objects.c: materials, lights, cameras */
+void lb_material_register(lua_State *L); /* lua_material.c: first, shapes test for it */
+void lb_light_register(lua_State *L);    /* lua_light.c: point, spot, directional */
+void lb_camera_register(lua_State *L);   /* lua_camera.c */
 void lb_shapes_register(lua_State *L);   /* lua_shapes.c */
 void lb_mesh_register(lua_State *L);     /* lua_mesh.c */
 void lb_scene_register(lua_State *L);    /* lua_scene.c: first, the others add methods */
@@ -175,16 +229,22 @@ int lb_motion_moved(lua_State *L);
 ** a scene lists (lc_shape_stored, then the kind's fields compared). */
 void lb_shape_push(lua_State *L, const lc_shape *s, int mat);
 int  lb_shape_match(const lc_shape *added, const lc_shape *listed);
-/* lua_objects.c: pushes a light userdata holding *l; the light moved by t
+/* lua_light.c: pushes a light userdata holding *l; the light moved by t
 ** (checked: 1, or 0 with err filled); adds it to the scene (its id, or -1). */
 void lb_light_push(lua_State *L, const lb_ud_light *l);
 int  lb_light_moved(const lb_ud_light *l, const lc_transform *t, lb_ud_light *out,
                     lc_error *err);
 int  lb_light_add(lc_scene *s, const lb_ud_light *l, lc_error *err);
-/* The light of a scene's listed object o (a light of any kind). */
+/* The light of a scene's listed object o (a light of any kind); whether
+** the light as added is the one a scene lists (every field compared); the
+** name of its kind and constructor ("spot_light"). */
 lb_ud_light lb_light_of(const lc_object *o);
-/* A material userdata of m, with no texture (lua_objects.c). */
+int  lb_light_match(const lb_ud_light *added, const lc_object *listed);
+const char *lb_light_kind_name(lc_object_kind kind);
+/* A material userdata of m, with no texture (lua_material.c). */
 void lb_material_push(lua_State *L, const lc_material *m);
+/* A camera userdata of c (lua_camera.c). */
+void lb_camera_push(lua_State *L, const lc_camera *c);
 /* An image texture of the PNG at path, decoded as enc says; raises naming
 ** `what` (lua_texture.c). */
 void lb_texture_push_png(lua_State *L, const char *path, const char *what,

@@ -87,7 +87,9 @@ int luaopen_lancer_core(lua_State *L)
     lua_rawsetp(L, LUA_REGISTRYINDEX, &account_key);
     lb_warn_install(L);
     lua_newtable(L);
-    lb_objects_register(L);
+    lb_material_register(L);
+    lb_light_register(L);
+    lb_camera_register(L);
     lb_shapes_register(L);
     lb_mesh_register(L);
     lb_scene_register(L);

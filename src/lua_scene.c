@@ -590,9 +590,7 @@ static int w_scene_transformed(lua_State *L)
         return lf_raise(L, 2, &err);
     lc_camera moved;
     if (lc_scene_camera(c->s, &moved)) {
-        lb_ud_camera *cam = lua_newuserdatauv(L, sizeof *cam, 0);
-        cam->c = moved;
-        luaL_setmetatable(L, LB_CAMERA);
+        lb_camera_push(L, &moved);
         lua_getiuservalue(L, ci, 1);
         lua_insert(L, -2);
         lua_rawseti(L, -2, LB_SC_CAMERA);

@@ -66,9 +66,7 @@ static void push_entry(lua_State *L, const lc_object *o, int mats, int uv)
         break;
     default: {
         lb_ud_light l = lb_light_of(o);
-        lua_pushstring(L, o->kind == LC_OBJECT_SPOT_LIGHT ? "spot_light" :
-                          o->kind == LC_OBJECT_DIRECTIONAL_LIGHT ? "directional_light" :
-                          "point_light");
+        lua_pushstring(L, lb_light_kind_name(o->kind));
         lua_setfield(L, e, "kind");
         lb_light_push(L, &l);
         break;
@@ -98,8 +96,6 @@ static int w_scene_objects(lua_State *L)
     return 1;
 }
 
-static int same_vec(lc_vec3 a, lc_vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
-
 /* Whether the scene's object o is the value at idx (a shape, light or mesh). */
 static int matches(lua_State *L, int idx, const lc_object *o)
 {
@@ -107,16 +103,8 @@ static int matches(lua_State *L, int idx, const lc_object *o)
     if (sh)
         return o->kind == LC_OBJECT_SHAPE && lb_shape_match(&sh->s, &o->shape);
     lb_ud_light *li = luaL_testudata(L, idx, LB_LIGHT);
-    if (li && li->kind == LC_OBJECT_SPOT_LIGHT)
-        return o->kind == li->kind && same_vec(li->spot.position, o->spot.position) &&
-               same_vec(li->spot.direction, o->spot.direction) &&
-               li->spot.intensity == o->spot.intensity && li->spot.angle == o->spot.angle;
-    if (li && li->kind == LC_OBJECT_DIRECTIONAL_LIGHT)
-        return o->kind == li->kind && same_vec(li->sun.direction, o->sun.direction) &&
-               li->sun.irradiance == o->sun.irradiance;
     if (li)
-        return o->kind == LC_OBJECT_LIGHT && same_vec(li->l.position, o->light.position) &&
-               li->l.intensity == o->light.intensity;
+        return lb_light_match(li, o);
     lb_ud_mesh *me = luaL_testudata(L, idx, LB_MESH);
     return me && o->kind == LC_OBJECT_MESH && me->m == o->mesh;
 }

@@ -398,6 +398,6 @@ void lb_shapes_register(lua_State *L)
         {"ellipsoid", w_ellipsoid}, {NULL, NULL}};
     lb_class(L, LB_SHAPE, shape_meta, NULL);
     luaL_getmetatable(L, LB_SHAPE);                /* UP_SHAPE */
-    luaL_getmetatable(L, LB_MATERIAL);     /* UP_MATERIAL: lb_objects_register's */
+    luaL_getmetatable(L, LB_MATERIAL);     /* UP_MATERIAL: lb_material_register's */
     luaL_setfuncs(L, funcs, 2);
 }
