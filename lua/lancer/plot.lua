@@ -161,6 +161,119 @@ local function decades(lo, hi)
   return a, b
 end
 
+-- The frame's grid at decades, ticks at 2..9 times them, labels at
+-- decades, and its border; e: the decades {x0, x1, y0, y1}, box: the frame's
+-- pixels {x0, y0, x1, y1}.
+local function draw_axes(cv, frame, e, box)
+  local ex0, ex1, ey0, ey1 = e[1], e[2], e[3], e[4]
+  local px0, py0, px1, py1 = box[1], box[2], box[3], box[4]
+  for d = ex0, ex1 do
+    local x = frame.map(10.0 ^ d, 10.0 ^ ey0)
+    if d > ex0 and d < ex1 then cv:line(x, py0, x, py1, GRID) end
+    local s = decade_label(d)
+    cv:text(x - M.text_width(s) / 2, py1 + 8, s, BLACK)
+    for k = 2, 9 do
+      if d < ex1 then
+        local xm = frame.map(k * 10.0 ^ d, 10.0 ^ ey0)
+        cv:line(xm, py1 - 3, xm, py1, BLACK)
+      end
+    end
+  end
+  for d = ey0, ey1 do
+    local _, y = frame.map(10.0 ^ ex0, 10.0 ^ d)
+    if d > ey0 and d < ey1 then cv:line(px0, y, px1, y, GRID) end
+    local s = decade_label(d)
+    cv:text(px0 - 8 - M.text_width(s), y - M.TEXT_HEIGHT / 2, s, BLACK)
+    for k = 2, 9 do
+      if d < ey1 then
+        local _, ym = frame.map(10.0 ^ ex0, k * 10.0 ^ d)
+        cv:line(px0, ym, px0 + 3, ym, BLACK)
+      end
+    end
+  end
+  cv:line(px0, py0, px0, py1, BLACK)
+  cv:line(px0, py1, px1, py1, BLACK)
+  cv:line(px1, py0, px1, py1, BLACK)
+  cv:line(px0, py0, px1, py0, BLACK)
+end
+
+-- Reference slopes through the first point, across the whole frame; then
+-- the data: a line through the points, a square on each, its label.
+local function draw_data(cv, frame, spec, pts, e, clip)
+  if #pts > 0 then
+    for i, s in ipairs(spec.slopes or {}) do
+      local p = pts[1]
+      local xa, xb = 10.0 ^ e[1], 10.0 ^ e[2]
+      local ya, yb = p.y * (xa / p.x) ^ s[1], p.y * (xb / p.x) ^ s[1]
+      local ax, ay = frame.map(xa, ya)
+      local bx, by = frame.map(xb, yb)
+      cv:line(ax, ay, bx, by, SLOPE[(i - 1) % #SLOPE + 1], 2, {8, 6}, clip)
+    end
+  end
+  for i = 2, #pts do
+    local ax, ay = frame.map(pts[i - 1].x, pts[i - 1].y)
+    local bx, by = frame.map(pts[i].x, pts[i].y)
+    cv:line(ax, ay, bx, by, DATA, 2, nil, clip)
+  end
+  for _, p in ipairs(pts) do
+    local x, y = frame.map(p.x, p.y)
+    cv:fill(x - 4, y - 4, x + 4, y + 4, DATA)
+    if p.label then cv:text(x + 8, y - 8 - M.TEXT_HEIGHT, p.label, BLACK) end
+  end
+end
+
+-- How much of the plot a legend box bw x bh at corner {x, y} would hide
+-- (grid lines do not count): a measured point or its label counts as much
+-- as a whole line.
+local function hidden_by(cv, frame, pts, corner, bw, bh)
+  local hidden = 0
+  for _, pt in ipairs(pts) do
+    local x, y = frame.map(pt.x, pt.y)
+    local x1 = x + 8 + (pt.label and M.text_width(pt.label) or 0)
+    if x1 >= corner[1] and x - 4 <= corner[1] + bw and y + 4 >= corner[2] and
+       y - 8 - M.TEXT_HEIGHT <= corner[2] + bh then
+      hidden = hidden + 1e6
+    end
+  end
+  for y = corner[2], corner[2] + bh, 2 do
+    for x = corner[1], corner[1] + bw, 2 do
+      local r, g, b = cv.img:pixel(math.floor(x) + 1, math.floor(y) + 1)
+      if r ~= g or g ~= b or (r < 0.7 and r ~= 1) then hidden = hidden + 1 end
+    end
+  end
+  return hidden
+end
+
+-- The legend, on a white box in the corner of the frame that hides the
+-- least of the plot.
+local function draw_legend(cv, frame, spec, pts, box)
+  local px0, py0, px1, py1 = box[1], box[2], box[3], box[4]
+  local entries = {{spec.series or "measured", DATA}}
+  for i, s in ipairs(spec.slopes or {}) do
+    entries[#entries + 1] = {s[2], SLOPE[(i - 1) % #SLOPE + 1], true}
+  end
+  local lw = 0
+  for _, e in ipairs(entries) do lw = math.max(lw, M.text_width(e[1])) end
+  local bw, bh = lw + 52, #entries * (M.TEXT_HEIGHT + 6) + 10
+  local best, lx, ly = math.huge, nil, nil
+  for _, corner in ipairs{{px1 - 6 - bw, py0 + 6}, {px0 + 6, py1 - 6 - bh},
+                          {px0 + 6, py0 + 6}, {px1 - 6 - bw, py1 - 6 - bh}} do
+    local hidden = hidden_by(cv, frame, pts, corner, bw, bh)
+    if hidden < best then best, lx, ly = hidden, corner[1], corner[2] end
+  end
+  cv:fill(lx, ly, lx + bw, ly + bh, WHITE)
+  cv:line(lx, ly, lx + bw, ly, BLACK)
+  cv:line(lx, ly + bh, lx + bw, ly + bh, BLACK)
+  cv:line(lx, ly, lx, ly + bh, BLACK)
+  cv:line(lx + bw, ly, lx + bw, ly + bh, BLACK)
+  for i, e in ipairs(entries) do
+    local y = ly + 6 + (i - 1) * (M.TEXT_HEIGHT + 6)
+    cv:line(lx + 8, y + M.TEXT_HEIGHT / 2, lx + 36, y + M.TEXT_HEIGHT / 2, e[2], 2,
+            e[3] and {8, 6} or nil)
+    cv:text(lx + 44, y, e[1], BLACK)
+  end
+end
+
 -- Draws the plot; returns the canvas and frame.map(x, y) -> pixel x, y
 -- (0-based), so tests can find where things are.
 -- spec: {title, xlabel, ylabel, points = {{x, y, label}}, slopes = {{s, label}}}
@@ -189,63 +302,9 @@ function M.draw(spec)
     return px0 + (log10(x) - ex0) / (ex1 - ex0) * (px1 - px0),
            py1 - (log10(y) - ey0) / (ey1 - ey0) * (py1 - py0)
   end
-  local clip = {px0, py0, px1, py1}
-
-  -- Grid at decades, ticks at 2..9 times them, labels at decades.
-  for e = ex0, ex1 do
-    local x = frame.map(10.0 ^ e, 10.0 ^ ey0)
-    if e > ex0 and e < ex1 then cv:line(x, py0, x, py1, GRID) end
-    local s = decade_label(e)
-    cv:text(x - M.text_width(s) / 2, py1 + 8, s, BLACK)
-    for k = 2, 9 do
-      if e < ex1 then
-        local xm = frame.map(k * 10.0 ^ e, 10.0 ^ ey0)
-        cv:line(xm, py1 - 3, xm, py1, BLACK)
-      end
-    end
-  end
-  for e = ey0, ey1 do
-    local _, y = frame.map(10.0 ^ ex0, 10.0 ^ e)
-    if e > ey0 and e < ey1 then cv:line(px0, y, px1, y, GRID) end
-    local s = decade_label(e)
-    cv:text(px0 - 8 - M.text_width(s), y - M.TEXT_HEIGHT / 2, s, BLACK)
-    for k = 2, 9 do
-      if e < ey1 then
-        local _, ym = frame.map(10.0 ^ ex0, k * 10.0 ^ e)
-        cv:line(px0, ym, px0 + 3, ym, BLACK)
-      end
-    end
-  end
-  cv:line(px0, py0, px0, py1, BLACK)
-  cv:line(px0, py1, px1, py1, BLACK)
-  cv:line(px1, py0, px1, py1, BLACK)
-  cv:line(px0, py0, px1, py0, BLACK)
-
-  -- Reference slopes through the first point, across the whole frame.
-  if #pts > 0 then
-    for i, s in ipairs(spec.slopes or {}) do
-      local p = pts[1]
-      local xa, xb = 10.0 ^ ex0, 10.0 ^ ex1
-      local ya, yb = p.y * (xa / p.x) ^ s[1], p.y * (xb / p.x) ^ s[1]
-      local ax, ay = frame.map(xa, ya)
-      local bx, by = frame.map(xb, yb)
-      cv:line(ax, ay, bx, by, SLOPE[(i - 1) % #SLOPE + 1], 2, {8, 6}, clip)
-    end
-  end
-
-  -- The data: a line through the points, a square on each, its label.
-  for i = 2, #pts do
-    local ax, ay = frame.map(pts[i - 1].x, pts[i - 1].y)
-    local bx, by = frame.map(pts[i].x, pts[i].y)
-    cv:line(ax, ay, bx, by, DATA, 2, nil, clip)
-  end
-  for _, p in ipairs(pts) do
-    local x, y = frame.map(p.x, p.y)
-    cv:fill(x - 4, y - 4, x + 4, y + 4, DATA)
-    if p.label then cv:text(x + 8, y - 8 - M.TEXT_HEIGHT, p.label, BLACK) end
-  end
-
-  -- Titles and the legend (top right, inside the frame).
+  local box = {px0, py0, px1, py1}
+  draw_axes(cv, frame, {ex0, ex1, ey0, ey1}, box)
+  draw_data(cv, frame, spec, pts, {ex0, ex1, ey0, ey1}, box)
   if spec.title then
     cv:text((cv.w - M.text_width(spec.title)) / 2, 12, spec.title, BLACK)
   end
@@ -255,47 +314,7 @@ function M.draw(spec)
   if spec.ylabel then
     cv:text(14, (py0 + py1 + M.text_width(spec.ylabel)) / 2, spec.ylabel, BLACK, true)
   end
-  local entries = {{spec.series or "measured", DATA}}
-  for i, s in ipairs(spec.slopes or {}) do
-    entries[#entries + 1] = {s[2], SLOPE[(i - 1) % #SLOPE + 1], true}
-  end
-  local lw = 0
-  for _, e in ipairs(entries) do lw = math.max(lw, M.text_width(e[1])) end
-  local bw, bh = lw + 52, #entries * (M.TEXT_HEIGHT + 6) + 10
-  -- The legend goes in the corner of the frame that hides the least of the
-  -- plot (grid lines do not count), on a white box; a measured point or its
-  -- label counts as much as a whole line.
-  local best, lx, ly = math.huge, nil, nil
-  for _, corner in ipairs{{px1 - 6 - bw, py0 + 6}, {px0 + 6, py1 - 6 - bh},
-                          {px0 + 6, py0 + 6}, {px1 - 6 - bw, py1 - 6 - bh}} do
-    local hidden = 0
-    for _, pt in ipairs(pts) do
-      local x, y = frame.map(pt.x, pt.y)
-      local x1 = x + 8 + (pt.label and M.text_width(pt.label) or 0)
-      if x1 >= corner[1] and x - 4 <= corner[1] + bw and y + 4 >= corner[2] and
-         y - 8 - M.TEXT_HEIGHT <= corner[2] + bh then
-        hidden = hidden + 1e6
-      end
-    end
-    for y = corner[2], corner[2] + bh, 2 do
-      for x = corner[1], corner[1] + bw, 2 do
-        local r, g, b = cv.img:pixel(math.floor(x) + 1, math.floor(y) + 1)
-        if r ~= g or g ~= b or (r < 0.7 and r ~= 1) then hidden = hidden + 1 end
-      end
-    end
-    if hidden < best then best, lx, ly = hidden, corner[1], corner[2] end
-  end
-  cv:fill(lx, ly, lx + bw, ly + bh, WHITE)
-  cv:line(lx, ly, lx + bw, ly, BLACK)
-  cv:line(lx, ly + bh, lx + bw, ly + bh, BLACK)
-  cv:line(lx, ly, lx, ly + bh, BLACK)
-  cv:line(lx + bw, ly, lx + bw, ly + bh, BLACK)
-  for i, e in ipairs(entries) do
-    local y = ly + 6 + (i - 1) * (M.TEXT_HEIGHT + 6)
-    cv:line(lx + 8, y + M.TEXT_HEIGHT / 2, lx + 36, y + M.TEXT_HEIGHT / 2, e[2], 2,
-            e[3] and {8, 6} or nil)
-    cv:text(lx + 44, y, e[1], BLACK)
-  end
+  draw_legend(cv, frame, spec, pts, box)
   return cv, frame
 end
 
