@@ -37,7 +37,7 @@ static inline void *lb_udata_is(lua_State *L, int idx, int mt)
 
 typedef struct { lc_material m; } lb_ud_material; /* user value 1: its textures, by
                                                   ** field name, or nil */
-typedef struct { lc_texture t; } lb_ud_texture;  /* user values: lua_texture.c */
+typedef struct { lc_texture t; } lb_ud_texture;   /* user values: lua_texture.c */
 typedef struct { lc_shape s; } lb_ud_shape;       /* user value 1: its material */
 /* A light of any kind (lancer.point_light, spot_light, directional_light):
 ** kind is LC_OBJECT_LIGHT, LC_OBJECT_SPOT_LIGHT or LC_OBJECT_DIRECTIONAL_LIGHT,
@@ -55,12 +55,12 @@ typedef struct {
                         ** the end of a render; what follows is scene building */
     int       rendering;  /* a render of it runs Lua code (its on_pass): the core
                         ** scene is locked and in use, lb_scene_at refuses it */
-} lb_ud_scene;                                 /* user value 1: see LB_SC_CAMERA */
+} lb_ud_scene;                                    /* user value 1: see LB_SC_CAMERA */
 typedef struct { lc_image *img; } lb_ud_image;
-typedef struct { lc_mesh *m; } lb_ud_mesh;     /* user value 1: its material; 2: the
-                                                  ** materials of its face slots, or nil */
+/* user value 1: its material; 2: the materials of its face slots, or nil */
+typedef struct { lc_mesh *m; } lb_ud_mesh;
 typedef struct { lc_transform t; } lb_ud_transform;
-typedef struct { lc_transform t; } lb_ud_group; /* user value 1: its members, an array */
+typedef struct { lc_transform t; } lb_ud_group;   /* user value 1: its members, an array */
 typedef struct {
     lc_csg_op    op;
     int          cut_object;   /* differences: cut = 'object' */
@@ -68,7 +68,7 @@ typedef struct {
     lc_transform t;            /* placed by it, after its operands' own placings */
     int          depth;        /* nesting levels of operations below, this one counted */
     size_t       nodes;        /* the length of its description */
-} lb_ud_csg;      /* user values: 1 its operands, an array; 2 its material or nil */
+} lb_ud_csg;          /* user values: 1 its operands, an array; 2 its material or nil */
 
 /* A scene's user value is a table: [LB_SC_CAMERA] its camera userdata,
 ** [LB_SC_MATERIALS] a table from material userdata to the index the core gave
