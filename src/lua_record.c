@@ -26,7 +26,7 @@ const lb_field *lb_record_field(const lb_field *fields, const char *name)
 
 void lb_record_open(lua_State *L, int arg, const lb_field *fields)
 {
-    const char *known[2 * LB_MAX_FIELDS + 1];
+    const char *known[2 * LB_MAX_FIELDS + 2];    /* names, alsos, NULL */
     int n = 0;
     for (const lb_field *f = fields; f->name && n < 2 * LB_MAX_FIELDS; f++) {
         known[n++] = f->name;
