@@ -154,12 +154,6 @@ int  lb_record_equal(const void *a, const void *b, const lb_field *fields);
 void lb_record_tostring(luaL_Buffer *b, const char *ctor, const void *rec,
                         const void *def, const lb_field *fields);
 
-/* lua_warn.c: installs the binding's warn function (once a state), which
-** writes lancer's warnings to stderr; lb_warn gives one, "lancer: warning:
-** msg", through lua_warning. */
-void lb_warn_install(lua_State *L);
-void lb_warn(lua_State *L, const char *msg);
-
 /* Each file registers its metatables and sets its constructors in the module
 ** table at the top of the stack. */
 void lb_material_register(lua_State *L); /* lua_material.c: first, shapes test for it */

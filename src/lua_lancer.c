@@ -85,7 +85,6 @@ int luaopen_lancer_core(lua_State *L)
     a->last = lc_memory_used();
     a->pending = 0;
     lua_rawsetp(L, LUA_REGISTRYINDEX, &account_key);
-    lb_warn_install(L);
     lua_newtable(L);
     lb_material_register(L);
     lb_light_register(L);

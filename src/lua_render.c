@@ -452,6 +452,15 @@ static int render_plain(lua_State *L)
 /* scene:render{width = , height = , samples = , ...}: img, stats. The
 ** warning in the statistics it returns (the hook's, when one is set: once
 ** for each render the script asked for) is a Lua warning (lua_warn.c). */
+/* A render's warning, as a Lua warning the host shows or not (its warn
+** function; lua5.4 -W; the lancer command always). */
+static void warn_render(lua_State *L, const char *msg)
+{
+    lua_pushfstring(L, "lancer: warning: %s", msg);
+    lua_warning(L, lua_tostring(L, -1), 0);
+    lua_pop(L, 1);
+}
+
 static int w_scene_render(lua_State *L)
 {
     lc_render_options o;
@@ -462,7 +471,7 @@ static int w_scene_render(lua_State *L)
         n = render_work(L, &o, show, 0);
     if (n >= 2 && lua_type(L, -n + 1) == LUA_TTABLE) {
         if (lua_getfield(L, -n + 1, "warning") == LUA_TSTRING)
-            lb_warn(L, lua_tostring(L, -1));
+            warn_render(L, lua_tostring(L, -1));
         lua_pop(L, 1);
     }
     return n;

@@ -591,6 +591,7 @@ static int run_once(struct cmdline *cl, char ***files)
         fprintf(stderr, "lancer: cannot create the Lua state: not enough memory\n");
         return 0;
     }
+    warn_install(L);
     lua_gc(L, LUA_GCSTOP);              /* no collection while building state */
     lua_pushcfunction(L, pmain);
     lua_pushlightuserdata(L, cl);

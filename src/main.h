@@ -138,6 +138,10 @@ void repl_run(lua_State *L);
 ** it is not one. A lua_CFunction, for lancer.repl and lancer.watch. */
 int  repl_terminal_size(lua_State *L);
 
+/* main_warn.c: the command's warn function, set on each new state: lancer's
+** warnings shown from the start, the others after warn("@on"). */
+void warn_install(lua_State *L);
+
 /* main_watch.c: lancer --watch: runs the script through run_once (a fresh
 ** state each time, 1 when it ran clean) whenever a file it read changes, until
 ** Ctrl-C; the exit status. */

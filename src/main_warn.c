@@ -1,19 +1,15 @@
-/* lua_warn.c: the binding's warnings, through Lua's warning system. */
+/* main_warn.c: the lancer command's warn function: Lua warnings on stderr. */
 #include <stdio.h>
 #include <string.h>
-#include <lauxlib.h>
 #include <lua.h>
-#include "lua_binding.h"
+#include "main.h"
 
 /* The binding's warnings (a render's "the scene has no light") are Lua
-** warnings whose text starts "lancer: ", so a host with its own warn
-** function (lua_setwarnf) sees them with the others. The binding installs
-** this one when it opens: the stock hosts (lua5.4, the lancer command)
-** keep theirs off unless asked (lua5.4 -W), which would hide lancer's.
-** It writes lancer's warnings to stderr as they are, one line each, and
-** the others, once warn("@on") asks (again, after require "lancer", under
-** lua5.4 -W), as lauxlib's does ("Lua warning: "). warn("@off") silences
-** both. */
+** warnings whose text starts "lancer: ", so any host sees them through its
+** own warn function, and stock lua5.4 shows them under -W, as lauxlib's
+** "Lua warning: ...". The command shows lancer's from the start, one line
+** each as they are, and the others, once warn("@on") asks, as lauxlib's
+** does ("Lua warning: "); warn("@off") silences both. */
 enum { SHOW_LANCER, SHOW_ALL, SHOW_NONE };
 
 typedef struct {
@@ -52,13 +48,8 @@ static void warn_function(void *ud, const char *msg, int tocont)
     }
 }
 
-void lb_warn_install(lua_State *L)
+void warn_install(lua_State *L)
 {
-    if (lua_rawgetp(L, LUA_REGISTRYINDEX, &warn_key) != LUA_TNIL) {
-        lua_pop(L, 1);                   /* opened before: it is in place */
-        return;
-    }
-    lua_pop(L, 1);
     /* Kept by the registry until the state closes: finalizers that warn
     ** run before its last objects are freed. */
     warn_state *w = lua_newuserdatauv(L, sizeof *w, 0);
@@ -66,11 +57,4 @@ void lb_warn_install(lua_State *L)
     w->piece = 0;
     lua_rawsetp(L, LUA_REGISTRYINDEX, &warn_key);
     lua_setwarnf(L, warn_function, w);
-}
-
-void lb_warn(lua_State *L, const char *msg)
-{
-    lua_pushfstring(L, "lancer: warning: %s", msg);
-    lua_warning(L, lua_tostring(L, -1), 0);
-    lua_pop(L, 1);
 }
