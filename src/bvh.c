@@ -139,7 +139,7 @@ typedef struct {
     int    failed;               /* out of memory, or cancelled */
     int    cancelled;
     sig_atomic_t seen;           /* interrupt_count() when the build began */
-    const float *cost;           /* an item's test cost by id >> 28; NULL: all 1 */
+    const float *cost;           /* an item's test cost by its kind; NULL: all 1 */
 } builder;
 
 /* Polled every 256 nodes and before each pass over many items: a Ctrl-C
@@ -170,7 +170,7 @@ static uint32_t new_node(builder *bd)
 /* What testing the item costs, in units of a sphere or triangle test. */
 static float item_cost(const builder *bd, const item *it)
 {
-    return bd->cost ? bd->cost[it->id >> 28] : 1;
+    return bd->cost ? bd->cost[it->id >> BVH_KIND_SHIFT] : 1;
 }
 
 static float centroid(const item *it, int k) { return 0.5f * it->lo[k] + 0.5f * it->hi[k]; }
@@ -418,7 +418,7 @@ static inline int item_finite(const item *it)
 }
 
 /* One pass over all the items: clamps their bounds, measures them (as
-** measure() does) and returns the kinds among them (bit id >> 28). */
+** measure() does) and returns the kinds among them (bit id >> BVH_KIND_SHIFT). */
 static uint32_t prepare(item *items, size_t n, box3 *bounds, box3 *cb)
 {
     uint32_t kinds = 0;
@@ -426,7 +426,7 @@ static uint32_t prepare(item *items, size_t n, box3 *bounds, box3 *cb)
     box_empty(cb);
     for (size_t i = 0; i < n; i++) {
         item *it = &items[i];
-        kinds |= 1u << (it->id >> 28);
+        kinds |= 1u << (it->id >> BVH_KIND_SHIFT);
         if (!item_finite(it))          /* rare: what clamping changes */
             for (int k = 0; k < 3; k++) {
                 it->lo[k] = clamp_lo(it->lo[k]);
@@ -441,7 +441,7 @@ static uint32_t prepare(item *items, size_t n, box3 *bounds, box3 *cb)
 ** bins without weighing: the same planes, B3 4M's bins a tenth faster). */
 static const float *cost_in_use(const float *cost, uint32_t kinds)
 {
-    for (int k = 0; cost && k < 16; k++)
+    for (unsigned k = 0; cost && k < BVH_KINDS; k++)
         if ((kinds >> k & 1) && cost[k] != 1)
             return cost;
     return NULL;

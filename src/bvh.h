@@ -53,8 +53,12 @@ typedef struct {
 ** hundred nodes and every pass over many items). */
 lc_status bvh_build(bvh *b, bvh_item *items, size_t n, sig_atomic_t interrupts_seen,
                     lc_error *err);
-/* The same, each item weighed by what testing it costs: cost[id >> 28], in
-** units of one sphere or triangle test (bvh_build: all 1). */
+/* The same, each item weighed by what testing it costs: cost[id >>
+** BVH_KIND_SHIFT], the kind in an id's top bits (shape.h's PRIM_ID), in
+** units of one sphere or triangle test (bvh_build: all 1); cost has
+** BVH_KINDS entries. */
+#define BVH_KIND_SHIFT 27
+#define BVH_KINDS      (1u << (32 - BVH_KIND_SHIFT))
 lc_status bvh_build_costed(bvh *b, bvh_item *items, size_t n, const float *cost,
                            sig_atomic_t interrupts_seen, lc_error *err);
 void      bvh_free(bvh *b);

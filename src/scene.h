@@ -183,7 +183,8 @@ void intersect_uv(const lc_scene *s, const hit *h, double uv[2]);
 ** that emitter, whatever the rounding of its own surface. */
 int intersect_occluded_skip(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
                         bvh_counts *counts);
-#define INTERSECT_SKIP_NONE 0xffffffffu     /* kind 15: no primitive has this id */
+/* Every bit set: kind PRIM_NONE (shape.h), the one no primitive has. */
+#define INTERSECT_SKIP_NONE 0xffffffffu
 
 /* The id lc_scene_add_* gave the object a hit is on (query.c). */
 int scene_object_id(const lc_scene *s, const hit *h);

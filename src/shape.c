@@ -8,7 +8,7 @@
 **      _describe, _transform, _scale, _bounds, _uv, the hit (disc_t and disc_hit),
 **      and, if it can glow, _light_centre, _light_begin and _light_sample;
 **   3. src/shape.h: its disc_geom (and disc_light) and those prototypes, a
-**      PRIM_DISC id (before PRIM_KINDS: 4 bits hold 15 kinds) and,
+**      PRIM_DISC id (before PRIM_KINDS: 5 bits hold 31 kinds besides PRIM_NONE) and,
 **      if flat, its bit in PRIM_FLAT; its light setup in light_setup;
 **   4. this file: a case in each switch below, and its entries in the
 **      tables;
@@ -21,8 +21,8 @@
 **      sphere_geom, box_geom and placed_geom, a member in csg_leaf's union
 **      (csg.h).
 ** Scenes store, list, move, bound, remove and sample every kind through
-** this file, so nothing else changes. (PRIM_KINDS is 14: one id is left
-** before the 4 bits are full.) */
+** this file, so nothing else changes. (PRIM_KINDS is 14: 17 ids are left
+** before the 5 bits are full.) */
 #include <string.h>
 #include "shape.h"
 #include "validate.h"

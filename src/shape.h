@@ -11,9 +11,13 @@
 
 /* ---- Primitive ids ----------------------------------------------------------- */
 
-/* A primitive's id: its kind in the top 4 bits, its index in that kind's
-** list. Ids order ties between equally near hits. Kind 15 is no kind
-** (INTERSECT_SKIP_NONE). */
+/* A primitive's id: its kind in the top PRIM_KIND_BITS bits, its index in
+** that kind's list below them. Ids order ties between equally near hits.
+** Kind PRIM_NONE (all bits set) is no kind: INTERSECT_SKIP_NONE, every bit
+** of the id set, names no primitive. 5 bits hold 31 kinds besides it; each
+** kind holds at most PRIM_MAX = 2^27 primitives (the triangles of a scene
+** too). The BVH weighs an item by the same top bits (bvh.h,
+** BVH_KIND_SHIFT; compile.c checks that they agree). */
 enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
        PRIM_INSTANCE,       /* a moved mesh: only in BVH refs, never in a hit */
        PRIM_DISC, PRIM_CYLINDER, PRIM_CONE, PRIM_TORUS, PRIM_ELLIPSOID,
@@ -22,10 +26,13 @@ enum { PRIM_SPHERE, PRIM_QUAD, PRIM_BOX, PRIM_TRIANGLE, PRIM_PLANE,
                             ** leaf's: leaving outward, a ray never meets that leaf */
        PRIM_CSG_CUT,        /* any other CSG hit (cut faces, concave leaves) */
        PRIM_KINDS };
-#define PRIM_ID(kind, index) (((uint32_t)(kind) << 28) | (uint32_t)(index))
-#define PRIM_KIND(id)        ((unsigned)((id) >> 28))
-#define PRIM_INDEX(id)       ((id) & 0x0fffffffu)
-#define PRIM_MAX             ((size_t)1 << 28)
+#define PRIM_KIND_BITS       5
+#define PRIM_SHIFT           (32 - PRIM_KIND_BITS)
+#define PRIM_NONE            ((1u << PRIM_KIND_BITS) - 1)    /* no kind */
+#define PRIM_ID(kind, index) (((uint32_t)(kind) << PRIM_SHIFT) | (uint32_t)(index))
+#define PRIM_KIND(id)        ((unsigned)((id) >> PRIM_SHIFT))
+#define PRIM_INDEX(id)       ((id) & ((1u << PRIM_SHIFT) - 1))
+#define PRIM_MAX             ((size_t)1 << PRIM_SHIFT)
 
 /* Flat primitives: a ray leaving one can never meet it again. */
 #define PRIM_FLAT ((1u << PRIM_QUAD) | (1u << PRIM_PLANE) | (1u << PRIM_TRIANGLE) | \

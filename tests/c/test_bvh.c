@@ -134,8 +134,8 @@ static void costed_build_parts_costly_leaves(void **state)
         float x = 3.0f * (float)i;
         row[i] = (bvh_item){{x, 0, 0}, {x + 1, 1, 1}, PRIM_ID(PRIM_INSTANCE, i)};
     }
-    float unit[16], costly[16];
-    for (int k = 0; k < 16; k++)
+    float unit[BVH_KINDS], costly[BVH_KINDS];
+    for (unsigned k = 0; k < BVH_KINDS; k++)
         unit[k] = costly[k] = 1;
     costly[PRIM_INSTANCE] = 8;
     bvh a, b;
