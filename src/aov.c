@@ -6,6 +6,7 @@
 #include "error.h"
 #include "mem.h"
 #include "shade.h"
+#include "query.h"
 
 static const char *const aov_names[LC_AOVS] = {
     "depth", "normal", "albedo", "position", "object", "material", "direct",

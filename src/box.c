@@ -1,7 +1,9 @@
 /* box.c: parallelepipeds: checks, moving, bounds, the hit as one solid (slab
 ** test, not six quads), and sampling one as a light (by area of the faces
 ** that face the point). */
+#include "box.h"
 #include "bvh.h"
+#include "plane.h"
 #include "sample.h"
 #include "shape.h"
 #include "validate.h"

@@ -11,6 +11,8 @@
 #include "pair.h"
 #include "plan.h"
 #include "sky.h"
+#include "compile.h"
+#include "instance.h"
 
 void compile_free(compiled *c)
 {
@@ -85,30 +87,6 @@ static lc_status list_triangles(lc_scene *s, sig_atomic_t seen, lc_error *err)
     c->nflat = c->ntris;
     return instance_compile(s, seen, err);
 }
-
-/* What a leaf test of each primitive kind costs, in units of a sphere,
-** quad or triangle test (each 50-70 instructions, callgrind), for the
-** BVH's surface area heuristic. Measured on scenes/bench/mixed.lua and
-** instances.lua: a cylinder test 260 instructions (the ray brought into
-** its canonical space, then the quadratic), an instance 550 (the ray
-** moved, the mesh's own walk and triangles). A leaf of four such is a
-** leaf of 16 to 32 unit tests; weighed, the build parts them. A box test
-** is 75 instructions to a sphere's 67 (B1), but boxes weigh 2, which
-** makes leaves of two: tuned on scenes/bench/city.lua (rays grazing rows
-** of roofs), 9.7 % fewer trace instructions than at 1, B1 1.6 % fewer,
-** for 1.7 times the city's nodes (0.3 MB). Spheres and triangles stay at
-** 1: leaves of two would cost B2 1M and B3 4M 16 and 60 MB of nodes. */
-static const float prim_cost[PRIM_NONE + 1] = {
-    [PRIM_SPHERE] = 1, [PRIM_QUAD] = 1, [PRIM_BOX] = 2, [PRIM_TRIANGLE] = 1,
-    [PRIM_PLANE] = 1, [PRIM_INSTANCE] = 8, [PRIM_DISC] = 2, [PRIM_CYLINDER] = 4,
-    [PRIM_CONE] = 4, [PRIM_TORUS] = 8, [PRIM_ELLIPSOID] = 3, [PRIM_CSG] = 8,
-    [PRIM_CSG_FACE] = 1, [PRIM_CSG_CUT] = 1, [PRIM_NONE] = 1};
-/* The BVH weighs an item by the kind in its id's top bits, reading this
-** table: both must agree on where the kind lies, and the kinds must leave
-** PRIM_NONE to no primitive. (C99 has no static assertion: an array of
-** size -1 stops the build.) */
-typedef char prim_kind_is_bvh_kind[PRIM_SHIFT == BVH_KIND_SHIFT ? 1 : -1];
-typedef char prim_kinds_fit[PRIM_KINDS <= PRIM_NONE ? 1 : -1];
 
 /* Bounds of the bounded shapes (kind by kind) then of the flat triangles:
 ** items [begin, end) of that order, on a thread of their own for half of
@@ -190,7 +168,7 @@ static lc_status build_bvh(lc_scene *s, sig_atomic_t seen, lc_error *err)
         it->id = PRIM_ID(PRIM_CSG, i);
         csg_bounds(s->csgs[i], it->lo, it->hi);
     }
-    lc_status st = bvh_build_costed(&c->bvh, items, n, prim_cost, seen, err);
+    lc_status st = bvh_build_costed(&c->bvh, items, n, shape_prim_cost, seen, err);
     if (st != LC_OK || c->nflat == 0)
         return st;
     c->tleaf = compile_tri_leaves(s, &c->bvh);

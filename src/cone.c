@@ -1,6 +1,7 @@
 /* cone.c: cones, truncated or not: x^2 + y^2 = r(z)^2 with r linear from k0
 ** at z = 0 to k1 at z = 1 (the larger 1), closed by discs when capped,
 ** placed; its hit, bounds and light sampling. */
+#include "cone.h"
 #include "sample.h"
 #include "shape.h"
 #include "validate.h"

@@ -2,11 +2,15 @@
 ** that finds where a ray meets the set they describe. */
 #include <stdlib.h>
 #include <string.h>
+#include "cone.h"
 #include "csg.h"
+#include "cylinder.h"
+#include "ellipsoid.h"
 #include "error.h"
 #include "mem.h"
 #include "mesh.h"
-#include "scene.h"
+#include "shape.h"
+#include "torus.h"
 
 static const char *const op_names[LC_CSG_OPS] = {
     [LC_CSG_SHAPE] = "shape", [LC_CSG_MESH] = "mesh", [LC_CSG_UNION] = "union",

@@ -6,7 +6,10 @@
 
 #include "affine.h"
 #include "bvh.h"
-#include "shape.h"
+#include "box.h"
+#include "placed.h"
+#include "sphere.h"
+#include "triangle.h"
 
 /* ---- A crossing's sense and how far off it may be --------------------------------- */
 

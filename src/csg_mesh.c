@@ -7,7 +7,6 @@
 #include "interrupt.h"
 #include "mem.h"
 #include "mesh.h"
-#include "scene.h"
 
 /* ---- closed, and which way ------------------------------------------------------ */
 

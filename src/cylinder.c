@@ -1,5 +1,6 @@
 /* cylinder.c: cylinders: x^2 + y^2 = 1 over 0 <= z <= 1 (closed by discs
 ** at z = 0 and 1 when capped), placed; its hit, bounds and light sampling. */
+#include "cylinder.h"
 #include "sample.h"
 #include "shape.h"
 #include "validate.h"

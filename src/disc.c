@@ -1,5 +1,6 @@
 /* disc.c: discs (rings, with an inner radius): the unit disc in z = 0,
 ** placed; its hit, bounds and sampling as a light. */
+#include "disc.h"
 #include "shape.h"
 #include "validate.h"
 

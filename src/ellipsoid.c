@@ -1,6 +1,7 @@
 /* ellipsoid.c: ellipsoids (and spheres under any affine map): the unit
 ** sphere, placed; its hit, bounds and sampling as a light. */
 #include "bvh.h"
+#include "ellipsoid.h"
 #include "shape.h"
 #include "validate.h"
 

@@ -4,6 +4,7 @@
 #include "error.h"
 #include "scene.h"
 #include "mem.h"
+#include "instance.h"
 
 static lc_vec3 vmax(lc_vec3 a, lc_vec3 b)
 {

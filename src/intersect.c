@@ -3,6 +3,14 @@
 #include "scene.h"
 #include "triangle4.h"
 #include "bvh_packet.h"
+#include "cone.h"
+#include "cylinder.h"
+#include "disc.h"
+#include "ellipsoid.h"
+#include "instance.h"
+#include "intersect.h"
+#include "plane.h"
+#include "torus.h"
 
 /* Each kind's prepared shapes, as the switches below read them. */
 #define SPHERES(s) ((const sphere_geom *)(s)->shapes[LC_SPHERE].geom)

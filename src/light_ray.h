@@ -6,6 +6,7 @@
 #define LC_LIGHT_RAY_H
 
 #include "dielectric.h"
+#include "intersect.h"
 #include "tracer.h"
 
 /* How a shadow ray goes: bits, each a constant where the light loops are

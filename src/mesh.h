@@ -22,4 +22,7 @@ struct lc_mesh {
     int       refs;     /* owners: the creator plus each scene holding it */
 };
 
+/* One more owner of m (a scene, a CSG leaf): lc_mesh_free drops one. */
+lc_mesh *mesh_retain(lc_mesh *m);
+
 #endif

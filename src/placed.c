@@ -3,6 +3,7 @@
 ** the hit brought back, their checks, moves, bounds and area sampling. */
 #include <string.h>
 #include "bvh.h"
+#include "placed.h"
 #include "sample.h"
 #include "shape.h"
 #include "validate.h"

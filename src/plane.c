@@ -1,6 +1,6 @@
 /* plane.c: infinite planes: checks, moving, the hit, and snapping points onto
 ** a plane (which quads share). */
-#include "shape.h"
+#include "plane.h"
 #include "validate.h"
 
 lc_status plane_check(const lc_shape *s, lc_error *err)

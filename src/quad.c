@@ -1,6 +1,8 @@
 /* quad.c: parallelograms (the seed's bounded planes): checks, moving, bounds,
 ** the hit, and sampling one as a light (by area). */
 #include "bvh.h"
+#include "plane.h"
+#include "quad.h"
 #include "shape.h"
 #include "validate.h"
 

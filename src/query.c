@@ -5,6 +5,9 @@
 #include "scene.h"
 #include "validate.h"
 #include "bvh_packet.h"
+#include "compile.h"
+#include "intersect.h"
+#include "query.h"
 
 static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive);
 

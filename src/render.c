@@ -16,6 +16,8 @@
 #include "shade.h"
 #include "clock.h"
 #include "mem.h"
+#include "compile.h"
+#include "intersect.h"
 
 #define TILE 16
 

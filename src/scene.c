@@ -5,6 +5,8 @@
 #include "scene.h"
 #include "texture.h"
 #include "mem.h"
+#include "compile.h"
+#include "instance.h"
 
 /* Makes room for one more element of `size` bytes in *arr. */
 static int grow(void **arr, size_t *cap, size_t n, size_t size)

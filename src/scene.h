@@ -3,7 +3,6 @@
 #define LC_SCENE_H
 
 #include <pthread.h>
-#include <signal.h>
 #include "affine.h"
 #include "bvh.h"
 #include "csg.h"
@@ -129,64 +128,5 @@ enum {
     PLAN_TEXTURED = 1 << 8,   /* some field is a texture: evaluated at each hit */
     PLAN_AO       = 1 << 9    /* ambient light times the unoccluded share (ao) */
 };
-
-/* o: the render's switches, or NULL for the defaults; a BVH build stops
-** with LC_ECANCEL once interrupt_count() differs from interrupts_seen. */
-lc_status compile_scene(lc_scene *s, const lc_render_options *o,
-                        sig_atomic_t interrupts_seen, lc_error *err);
-/* The triangles and the BVH only, rebuilt when the geometry changed: what
-** rays cast by the caller (query.c) need. */
-lc_status compile_geometry(lc_scene *s, sig_atomic_t interrupts_seen, lc_error *err);
-void      compile_free(compiled *c);
-/* The flat triangles' corners in b's leaf order (c.tleaf for c.bvh), for
-** a hierarchy over the scene's primitives; NULL when out of memory. */
-tri_leaf *compile_tri_leaves(const lc_scene *s, const bvh *b);
-int       compile_depth(const lc_scene *s, const lc_render_options *o);
-lc_mesh  *mesh_retain(lc_mesh *m);
-
-/* instance.c: builds (or reuses) the BVH of every instanced mesh and lists
-** their faces after the flat triangles in c->tris (room for
-** instance_faces(s) more entries must be there). */
-size_t    instance_faces(const lc_scene *s);
-lc_status instance_compile(lc_scene *s, sig_atomic_t interrupts_seen, lc_error *err);
-void      instance_free_all(lc_scene *s);            /* the cache, at scene free */
-/* World bounds of mesh_prim i, an instance, rounded outward to float. */
-void      instance_bounds(const lc_scene *s, size_t i, float lo[3], float hi[3]);
-
-/* instance.c: the nearest hit on the instance mesh_prim i in (0, tmax), in
-** world space (its distance, 0 for none); any hit. Both count their tests. */
-double instance_hit(const lc_scene *s, uint32_t i, const ray *r, double tmax,
-                    hit *h, bvh_counts *counts);
-int    instance_occluded(const lc_scene *s, uint32_t i, const ray *r, double tmax,
-                         bvh_counts *counts);
-
-/* Nearest hit with 0 < t < tmax; 1 if any. counts may be NULL. */
-int intersect_closest(const lc_scene *s, const ray *r, double tmax, hit *h,
-                    bvh_counts *counts);
-/* intersect_closest for rays r[0, n) (n <= BVH_PACKET, bvh_packet.h), each
-** with its own tmax, uncounted: found[i] and h[i] as it gives for r[i],
-** the same bits. Rays whose directions share their signs walk the BVH
-** together, each leaf tested by the rays that meet its box. */
-void intersect_closest_n(const lc_scene *s, const ray *r, const double *tmax, int n, hit *h,
-                         int *found);
-/* 1 if anything lies on the ray with 0 < t < tmax. counts may be NULL. */
-int intersect_occluded(const lc_scene *s, const ray *r, double tmax, bvh_counts *counts);
-/* The same for rays r[0, n) (n <= BVH_PACKET), uncounted, into blocked[],
-** walked together as intersect_closest_n's. */
-void intersect_occluded_n(const lc_scene *s, const ray *r, const double *tmax, int n,
-                          int *blocked);
-/* The texture coordinates of a hit intersect_closest found: computed only
-** when asked (a scene without textures never pays for them). */
-void intersect_uv(const lc_scene *s, const hit *h, double uv[2]);
-/* The same, but primitive `skip` (a PRIM_ID, never a plane) is not there:
-** a shadow ray toward a point sampled on an emitter cannot be blocked by
-** that emitter, whatever the rounding of its own surface. */
-int intersect_occluded_skip(const lc_scene *s, const ray *r, double tmax, uint32_t skip,
-                        bvh_counts *counts);
-/* Every bit set: kind PRIM_NONE (shape.h), the one no primitive has. */
-#define INTERSECT_SKIP_NONE 0xffffffffu
-
-/* The id lc_scene_add_* gave the object a hit is on (query.c). */
-int scene_object_id(const lc_scene *s, const hit *h);
 
 #endif

@@ -7,6 +7,7 @@
 #include "shade.h"
 #include "surface.h"
 #include "sky.h"
+#include "intersect.h"
 
 /* The needs that take the light loops out of line. */
 #define LIGHTS_APART (LC_NEED_FILTER | LC_NEED_SPOT | LC_NEED_SUN)

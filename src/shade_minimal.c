@@ -14,6 +14,7 @@
 ** after, C last), so a diffuse-only scene renders to the same bits.
 */
 #include "shade.h"
+#include "intersect.h"
 
 #ifndef LC_MINIMAL
 #error "shade_minimal.c replaces shade.c only in the MINIMAL=1 build"

@@ -1,30 +1,49 @@
 /* shape.c: the dispatch over shape kinds: every switch on a kind but the
-** nearest-hit one in intersect.c.
+** nearest-hit one in intersect.c, and each primitive kind's BVH cost.
 **
-** A new kind of shape (say LC_DISC) touches exactly these places:
-**   1. src/lancer.h: LC_DISC in lc_shape_kind (before LC_SHAPE_KINDS), and
+** A new kind of shape (say LC_WEDGE, its primitive id PRIM_WEDGE) touches
+** exactly these places:
+**   1. src/lancer.h: LC_WEDGE in lc_shape_kind (before LC_SHAPE_KINDS), and
 **      any lc_shape field it needs;
-**   2. src/disc.c: everything the kind does: disc_check, _prepare,
-**      _describe, _transform, _scale, _bounds, _uv, the hit (disc_t and disc_hit),
-**      and, if it can glow, _light_centre, _light_begin and _light_sample;
-**   3. src/shape.h: its disc_geom (and disc_light) and those prototypes, a
-**      PRIM_DISC id (before PRIM_KINDS: 5 bits hold 31 kinds besides PRIM_NONE) and,
-**      if flat, its bit in PRIM_FLAT; its light setup in light_setup;
-**   4. this file: a case in each switch below, and its entries in the
-**      tables;
-**   5. src/intersect.c: a case in prim_t and prim_finish, the nearest-hit
+**   2. src/wedge.c: everything the kind does: wedge_check, _prepare,
+**      _describe, _transform, _scale, _bounds, _uv, the hit (wedge_t and
+**      wedge_hit), and, if it can glow, _light_centre, _light_begin and
+**      _light_sample (a placed kind, placed.h, shares _describe, _transform
+**      and _scale, and has _area instead of the light's first two);
+**   3. src/wedge.h: its wedge_geom (and wedge_light) and those prototypes;
+**   4. src/shape.h: a PRIM_WEDGE id before PRIM_KINDS (PRIM_KIND_BITS = 5
+**      hold 31 kinds besides PRIM_NONE; 14 are used), its bit in PRIM_FLAT
+**      if flat or in PRIM_CONCAVE if not convex, and its setup in
+**      light_setup if sampling it needs one per shaded point (then the
+**      include of wedge.h);
+**   5. this file: its entries in the tables kind_names, prim_kinds,
+**      geom_sizes and shape_prim_cost (its BVH cost, measured), a case in
+**      each switch below (or the kind named in shape_bounded and
+**      shape_can_emit when it is unbounded or never a light; placed_kind
+**      when placed), and the include of wedge.h;
+**   6. src/intersect.c: a case in prim_t and prim_finish, the nearest-hit
 **      switch kept there for speed;
-**   6. src/lua_shapes.c: its Lua constructor, lancer.disc{...}, and the
-**      fields it lists;
-**   7. src/csg.c, if it bounds a solid (CSG takes it as a leaf): a case in
+**   7. src/lua_shapes.c: its fields in kind_fields, its Lua constructor
+**      w_wedge (lancer.wedge{...}) and its entry in shapes_register;
+**   8. src/csg.c, if it bounds a solid (CSG takes it as a leaf): a case in
 **      closed_kind and in shape_cross, and, if its geometry is none of
 **      sphere_geom, box_geom and placed_geom, a member in csg_leaf's union
-**      (csg.h).
+**      (csg.h);
+**   9. docs/manual.md: its row lancer.wedge{...} in the shapes' table, and
+**      its texture coordinates.
 ** Scenes store, list, move, bound, remove and sample every kind through
-** this file, so nothing else changes. (PRIM_KINDS is 14: 17 ids are left
-** before the 5 bits are full.) */
+** this file, so nothing else changes. A primitive id that is no shape
+** (PRIM_TRIANGLE, PRIM_INSTANCE, the CSG ones) needs 4, its entry in
+** shape_prim_cost, and its cases in src/intersect.c. */
 #include <string.h>
+#include "bvh.h"
+#include "cone.h"
+#include "cylinder.h"
+#include "disc.h"
+#include "ellipsoid.h"
+#include "plane.h"
 #include "shape.h"
+#include "torus.h"
 #include "validate.h"
 
 static const char *const kind_names[LC_SHAPE_KINDS + 1] = {
@@ -43,6 +62,34 @@ static const size_t geom_sizes[LC_SHAPE_KINDS] = {
     [LC_DISC] = sizeof(placed_geom), [LC_CYLINDER] = sizeof(placed_geom),
     [LC_CONE] = sizeof(placed_geom), [LC_TORUS] = sizeof(placed_geom),
     [LC_ELLIPSOID] = sizeof(placed_geom)};
+
+/* What a leaf test of each primitive kind costs, in units of a sphere,
+** quad or triangle test (each 50-70 instructions, callgrind), for the
+** BVH's surface area heuristic. Measured on scenes/bench/mixed.lua and
+** instances.lua: a cylinder test 260 instructions (the ray brought into
+** its canonical space, then the quadratic), an instance 550 (the ray
+** moved, the mesh's own walk and triangles). A leaf of four such is a
+** leaf of 16 to 32 unit tests; weighed, the build parts them. A box test
+** is 75 instructions to a sphere's 67 (B1), but boxes weigh 2, which
+** makes leaves of two: tuned on scenes/bench/city.lua (rays grazing rows
+** of roofs), 9.7 % fewer trace instructions than at 1, B1 1.6 % fewer,
+** for 1.7 times the city's nodes (0.3 MB). Spheres and triangles stay at
+** 1: leaves of two would cost B2 1M and B3 4M 16 and 60 MB of nodes.
+** The ids nothing uses weigh 0: no item has them. */
+const float shape_prim_cost[PRIM_NONE + 1] = {
+    [PRIM_SPHERE] = 1, [PRIM_QUAD] = 1, [PRIM_BOX] = 2, [PRIM_TRIANGLE] = 1,
+    [PRIM_PLANE] = 1, [PRIM_INSTANCE] = 8, [PRIM_DISC] = 2, [PRIM_CYLINDER] = 4,
+    [PRIM_CONE] = 4, [PRIM_TORUS] = 8, [PRIM_ELLIPSOID] = 3, [PRIM_CSG] = 8,
+    [PRIM_CSG_FACE] = 1, [PRIM_CSG_CUT] = 1, [PRIM_NONE] = 1};
+
+/* The BVH weighs an item by the kind in its id's top bits, reading this
+** table: both must agree on where the kind lies; and the kinds must leave
+** PRIM_NONE to no primitive. (C99 has no static assertion: an array of
+** size -1 stops the build.) */
+typedef char prim_kind_is_bvh_kind[PRIM_SHIFT == BVH_KIND_SHIFT ? 1 : -1];
+typedef char prim_kinds_fit[PRIM_KINDS <= PRIM_NONE ? 1 : -1];
+typedef char prim_costs_fit[sizeof shape_prim_cost / sizeof *shape_prim_cost == BVH_KINDS
+                            ? 1 : -1];
 
 /* The kinds placed by an affine map (placed.c). */
 static int placed_kind(lc_shape_kind k) { return k >= LC_DISC && k <= LC_ELLIPSOID; }

@@ -3,6 +3,7 @@
 #include "bvh.h"
 #include "sample.h"
 #include "shape.h"
+#include "sphere.h"
 #include "validate.h"
 
 /* A sphere stays a sphere when M's columns are orthogonal and of one length

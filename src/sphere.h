@@ -1,6 +1,6 @@
-/* sphere.h: a sphere's distance test, inline (sphere.c has the rest): every
-** sphere a BVH leaf holds is tested through it, and B2's million spheres
-** made the call a tenth of the trace. */
+/* sphere.h: a sphere (sphere.c): its prepared form, its functions, and its
+** distance test inline: every sphere a BVH leaf holds is tested through it,
+** and B2's million spheres made the call a tenth of the trace. */
 #ifndef LC_SPHERE_H
 #define LC_SPHERE_H
 
@@ -86,5 +86,40 @@ static inline double sphere_t(const sphere_geom *s, const ray *r, double tmin,
     return 0;
 }
 #endif
+
+/* A light sample (shape.h) is filled here, never read: the tag is enough. */
+struct light_sample;
+
+/* What sampling a sphere light needs at one shaded point: the cone it subtends. */
+typedef struct {
+    lc_vec3 tc, axis;      /* centre - p, and its direction */
+    double  dc;            /* |centre - p| */
+    double  omc, solid;    /* 1 - cos of the cone's half-angle; its solid angle */
+} sphere_light;
+
+lc_status sphere_check(const lc_shape *s, lc_error *err);
+void      sphere_prepare(const lc_shape *s, sphere_geom *g);
+void      sphere_describe(const sphere_geom *g, lc_shape *s);
+lc_status sphere_transform(const lc_shape *s, const lc_transform *t, lc_shape *out,
+                           lc_error *err);
+void      sphere_scale(lc_shape *s, double k, lc_vec3 offset);
+void      sphere_bounds(const sphere_geom *g, float lo[3], float hi[3]);
+/* Each fills *h and returns 1 for the nearest hit with tmin < t < tmax,
+** else returns 0 and leaves *h untouched; the *_t forms return the distance
+** only (0 for a miss): enough to find the nearest hit, finished later. */
+/* sphere_t: above. */
+int       sphere_hit(const sphere_geom *g, const ray *r, double tmin, double tmax,
+                     hit *h);
+/* The rest of a hit at distance t, which sphere_t gave for this ray: the
+** nearest hit's, found again without the quadratic. */
+int       sphere_finish(const sphere_geom *g, const ray *r, double t, hit *h);
+/* Texture coordinates of a point p on the shape (each kind's convention:
+** docs/manual.md, "Texture coordinates"). */
+void      sphere_uv(const sphere_geom *g, lc_vec3 p, double uv[2]);
+void      sphere_uv_of_direction(lc_vec3 unit, double uv[2]);
+double    sphere_light_centre(const sphere_geom *g, lc_vec3 l, double d);
+int       sphere_light_begin(const sphere_geom *g, lc_vec3 p, lc_vec3 n, sphere_light *sl);
+int       sphere_light_sample(const sphere_geom *g, const sphere_light *sl, lc_vec3 p,
+                              const double u[2], uint32_t S, struct light_sample *out);
 
 #endif

@@ -4,6 +4,7 @@
 #include "sample.h"
 #include "surface.h"
 #include "texture.h"
+#include "intersect.h"
 
 /* The hit point in the space of what was hit, before its transform: a moved
 ** mesh's object space, a moved placed shape's own; else the world's. */

@@ -3,6 +3,7 @@
 ** hit, bounds and light sampling. */
 #include "sample.h"
 #include "shape.h"
+#include "torus.h"
 #include "validate.h"
 
 #define KIND_NAME "torus"

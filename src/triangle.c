@@ -1,7 +1,7 @@
 /* triangle.c: mesh faces: the rest of a hit (triangle.h has the test),
 ** bounds, and which faces can never be hit. */
 #include "bvh.h"
-#include "shape.h"
+#include "triangle.h"
 
 int triangle_degenerate(const double *a, const double *b, const double *c)
 {

@@ -135,4 +135,10 @@ int triangle_finish(const double *v0, const double *v1, const double *v2, const 
 int triangle_hit(const double *v0, const double *v1, const double *v2, const ray *r,
                  const triangle_shear *s, double tmin, double tmax, hit *h, double bary[3]);
 
+/* A face that can never be hit: zero area (or an area beyond double). */
+int  triangle_degenerate(const double *a, const double *b, const double *c);
+/* Bounds of a face: its vertices are exact doubles, rounded outward. */
+void triangle_bounds(const double *a, const double *b, const double *c, float lo[3],
+                float hi[3]);
+
 #endif

@@ -12,6 +12,8 @@
 #include "mem.h"
 #include "scene.h"
 #include "helpers.h"
+#include "compile.h"
+#include "intersect.h"
 
 #define M_PI 3.14159265358979323846
 

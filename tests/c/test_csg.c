@@ -16,6 +16,8 @@
 #include "interrupt.h"
 #include "scene.h"
 #include "helpers.h"
+#include "compile.h"
+#include "intersect.h"
 
 /* ---- helpers ---------------------------------------------------------------- */
 

@@ -9,6 +9,7 @@
 #include <cmocka.h>
 #include "shape.h"
 #include "helpers.h"
+#include "plane.h"
 
 /* Half an ulp of 1: the relative error of one rounding. */
 #define EPS (DBL_EPSILON / 2)

@@ -10,6 +10,8 @@
 #include <cmocka.h>
 #include "scene.h"
 #include "helpers.h"
+#include "compile.h"
+#include "intersect.h"
 
 #define PI 3.14159265358979323846
 

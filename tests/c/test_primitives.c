@@ -13,6 +13,16 @@
 #include <cmocka.h>
 #include "scene.h"
 #include "helpers.h"
+#include "cone.h"
+#include "cylinder.h"
+#include "disc.h"
+#include "ellipsoid.h"
+#include "torus.h"
+static ray mkray(lc_vec3 o, lc_vec3 d)
+{
+    ray r = {o, v3_norm(d)};
+    return r;
+}
 
 /* One shape prepared as the scene would: checked, then its geometry. */
 static placed_geom prepare(lc_shape s)

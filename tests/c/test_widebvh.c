@@ -16,6 +16,8 @@
 #include "triangle4.h"
 #include "bvh_packet.h"
 #include "helpers.h"
+#include "compile.h"
+#include "intersect.h"
 
 #define M_PI 3.14159265358979323846
 #define RANDOM_RAYS      100000

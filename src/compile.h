@@ -1,0 +1,22 @@
+/* compile.h: what compile.c derives from a scene for a render (scene.h's
+** compiled): the triangle list, the BVH, the material plans. */
+#ifndef LC_COMPILE_H
+#define LC_COMPILE_H
+
+#include <signal.h>
+#include "scene.h"
+
+/* o: the render's switches, or NULL for the defaults; a BVH build stops
+** with LC_ECANCEL once interrupt_count() differs from interrupts_seen. */
+lc_status compile_scene(lc_scene *s, const lc_render_options *o,
+                        sig_atomic_t interrupts_seen, lc_error *err);
+/* The triangles and the BVH only, rebuilt when the geometry changed: what
+** rays cast by the caller (query.c) need. */
+lc_status compile_geometry(lc_scene *s, sig_atomic_t interrupts_seen, lc_error *err);
+void      compile_free(compiled *c);
+/* The flat triangles' corners in b's leaf order (c.tleaf for c.bvh), for
+** a hierarchy over the scene's primitives; NULL when out of memory. */
+tri_leaf *compile_tri_leaves(const lc_scene *s, const bvh *b);
+int       compile_depth(const lc_scene *s, const lc_render_options *o);
+
+#endif
