@@ -68,7 +68,7 @@ static inline double plane_query_t(const plane_geom *g, const ray *r, const doub
     return plane_distance(g->n, g->p, -1, r, inv, 0, tmax);
 }
 
-/* Shared by plane and quad: puts p back onto the plane n.x = k. */
+/* Shared by plane, quad and box: puts p back onto the plane n.x = k. */
 lc_vec3   plane_snap(lc_vec3 p, lc_vec3 n, double k, int axis, double axis_value,
                      lc_vec3 *perr);
 

@@ -2,7 +2,8 @@
 ** nearest-hit one in intersect.c, and each primitive kind's BVH cost.
 **
 ** A new kind of shape (say LC_WEDGE, its primitive id PRIM_WEDGE) touches
-** exactly these places:
+** exactly these places (tests/lua/test_layout.lua reads them and fails when
+** a PRIM_* kind of shape.h is missing from one that applies to it):
 **   1. src/lancer.h: LC_WEDGE in lc_shape_kind (before LC_SHAPE_KINDS), and
 **      any lc_shape field it needs;
 **   2. src/wedge.c: everything the kind does: wedge_check, _prepare,
@@ -16,25 +17,26 @@
 **      if flat or in PRIM_CONCAVE if not convex, and its setup in
 **      light_setup if sampling it needs one per shaded point (then the
 **      include of wedge.h);
-**   5. this file: its entries in the tables kind_names, prim_kinds,
-**      geom_sizes and shape_prim_cost (its BVH cost, measured), a case in
-**      each switch below (or the kind named in shape_bounded and
-**      shape_can_emit when it is unbounded or never a light; placed_kind
-**      when placed), and the include of wedge.h;
-**   6. src/intersect.c: a case in prim_t and prim_finish, the nearest-hit
-**      switch kept there for speed;
+**   5. src/shape.c, this file: its entries in the tables kind_names,
+**      prim_kinds, geom_sizes and shape_prim_cost (its BVH cost, measured),
+**      a case in each switch below (or the kind named in shape_bounded and
+**      shape_can_emit when it is unbounded or never a light; in
+**      placed_kind's range when placed), and the include of wedge.h;
+**   6. src/intersect.c: a case in prim_t and prim_finish (or, when prim_t
+**      completes the hit, its bit in COMPLETE), the nearest-hit switch kept
+**      there for speed, and the include of wedge.h;
 **   7. src/lua_shapes.c: its fields in kind_fields, its Lua constructor
 **      w_wedge (lancer.wedge{...}) and its entry in shapes_register;
 **   8. src/csg.c, if it bounds a solid (CSG takes it as a leaf): a case in
 **      closed_kind and in shape_cross, and, if its geometry is none of
 **      sphere_geom, box_geom and placed_geom, a member in csg_leaf's union
-**      (csg.h);
+**      in src/csg.h;
 **   9. docs/manual.md: its row lancer.wedge{...} in the shapes' table, and
 **      its texture coordinates.
 ** Scenes store, list, move, bound, remove and sample every kind through
 ** this file, so nothing else changes. A primitive id that is no shape
-** (PRIM_TRIANGLE, PRIM_INSTANCE, the CSG ones) needs 4, its entry in
-** shape_prim_cost, and its cases in src/intersect.c. */
+** (PRIM_TRIANGLE, PRIM_INSTANCE, the CSG ones) needs its place in 4, its
+** entry in shape_prim_cost and its cases in src/intersect.c. */
 #include <string.h>
 #include "bvh.h"
 #include "cone.h"
