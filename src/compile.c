@@ -13,6 +13,8 @@
 #include "sky.h"
 #include "compile.h"
 #include "instance.h"
+#include "csg.h"
+#include "triangle.h"
 
 void compile_free(compiled *c)
 {

@@ -132,7 +132,7 @@ typedef struct {
     union { sphere_geom s; box_geom b; placed_geom p; } g;     /* shape leaves */
 } csg_leaf;
 
-typedef struct {
+typedef struct csg_tree {
     int          id;
     lc_csg_node *desc;     /* as added, shapes stored; meshes retained */
     size_t       n, nleaves, nmesh;

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "explain.h"
+#include "csg.h"
 
 void explain_free(ray_log *g)
 {

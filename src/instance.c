@@ -5,6 +5,7 @@
 #include "scene.h"
 #include "mem.h"
 #include "instance.h"
+#include "triangle.h"
 
 static lc_vec3 vmax(lc_vec3 a, lc_vec3 b)
 {

@@ -11,6 +11,7 @@
 #include "intersect.h"
 #include "plane.h"
 #include "torus.h"
+#include "csg.h"
 
 /* Each kind's prepared shapes, as the switches below read them. */
 #define SPHERES(s) ((const sphere_geom *)(s)->shapes[LC_SPHERE].geom)

@@ -8,6 +8,7 @@
 #include "compile.h"
 #include "intersect.h"
 #include "query.h"
+#include "csg.h"
 
 static int object_of(const lc_scene *s, const hit *h, int *kind, long *primitive);
 

@@ -7,6 +7,7 @@
 #include "mem.h"
 #include "compile.h"
 #include "instance.h"
+#include "csg.h"
 
 /* Makes room for one more element of `size` bytes in *arr. */
 static int grow(void **arr, size_t *cap, size_t n, size_t size)

@@ -5,10 +5,11 @@
 #include <pthread.h>
 #include "affine.h"
 #include "bvh.h"
-#include "csg.h"
 #include "lights.h"
 #include "mesh.h"
 #include "shape.h"
+
+struct csg_tree;           /* csg.h: the scene holds pointers only */
 
 /* xf == NULL: the mesh's triangles join the scene's own BVH as they are;
 ** else it is an instance: its own BVH, shared by every instance of it. */
@@ -103,7 +104,7 @@ struct lc_scene {
     lc_textures *textures;         /* NULL until the first lc_scene_add_texture */
     shape_list  shapes[LC_SHAPE_KINDS];   /* by kind, each sorted by id */
     SCENE_ARRAY(mesh_prim, meshes);
-    SCENE_ARRAY(csg_tree *, csgs); /* CSG objects, sorted by id */
+    SCENE_ARRAY(struct csg_tree *, csgs);  /* CSG objects (csg.h), sorted by id */
     SCENE_ARRAY(emitter, emitters);
     SCENE_ARRAY(lc_point_light, lights);
     SCENE_ARRAY(spot_light, spots);       /* spot lights ... */

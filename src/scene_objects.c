@@ -4,6 +4,7 @@
 #include "error.h"
 #include "scene.h"
 #include "mem.h"
+#include "csg.h"
 
 /* Ids grow with each add, and removal keeps the order, so every list is
 ** sorted by id: a binary search finds an object. Returns its index or -1. */

@@ -5,6 +5,8 @@
 #include "surface.h"
 #include "texture.h"
 #include "intersect.h"
+#include "csg.h"
+#include "placed.h"
 
 /* The hit point in the space of what was hit, before its transform: a moved
 ** mesh's object space, a moved placed shape's own; else the world's. */

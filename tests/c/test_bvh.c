@@ -14,6 +14,7 @@
 #include "helpers.h"
 #include "compile.h"
 #include "intersect.h"
+#include "triangle.h"
 
 #define M_PI 3.14159265358979323846
 

@@ -18,6 +18,7 @@
 #include "helpers.h"
 #include "compile.h"
 #include "intersect.h"
+#include "csg.h"
 
 /* ---- helpers ---------------------------------------------------------------- */
 

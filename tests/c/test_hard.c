@@ -12,6 +12,7 @@
 #include "helpers.h"
 #include "compile.h"
 #include "intersect.h"
+#include "triangle.h"
 
 #define PI 3.14159265358979323846
 
