@@ -1,5 +1,4 @@
-/* compile.h: what compile.c derives from a scene for a render (scene.h's
-** compiled): the triangle list, the BVH, the material plans. */
+/* compile.h: what a render reads, derived from the scene (compile.c). */
 #ifndef LC_COMPILE_H
 #define LC_COMPILE_H
 

@@ -1,5 +1,4 @@
-/* cone.h: x^2 + y^2 = (k0 + (k1 - k0) z)^2, 0 <= z <= 1, max(k0, k1) = 1,
-** placed (cone.c). */
+/* cone.h: a cone, truncated or not, placed (cone.c). */
 #ifndef LC_CONE_H
 #define LC_CONE_H
 
@@ -7,6 +6,8 @@
 
 /* A light sample (shape.h) is filled here, never read: the tag is enough. */
 struct light_sample;
+
+/* Canonically x^2 + y^2 = (k0 + (k1 - k0) z)^2, 0 <= z <= 1, max(k0, k1) = 1. */
 
 lc_status cone_check(const lc_shape *s, lc_error *err);
 void      cone_prepare(const lc_shape *s, placed_geom *g);

@@ -1,5 +1,4 @@
-/* cylinder.h: x^2 + y^2 = 1, 0 <= z <= 1, capped when the shape says,
-** placed (cylinder.c). */
+/* cylinder.h: a cylinder, placed (cylinder.c). */
 #ifndef LC_CYLINDER_H
 #define LC_CYLINDER_H
 
@@ -7,6 +6,8 @@
 
 /* A light sample (shape.h) is filled here, never read: the tag is enough. */
 struct light_sample;
+
+/* Canonically x^2 + y^2 = 1, 0 <= z <= 1, capped when the shape says. */
 
 lc_status cylinder_check(const lc_shape *s, lc_error *err);
 void      cylinder_prepare(const lc_shape *s, placed_geom *g);

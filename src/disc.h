@@ -1,5 +1,4 @@
-/* disc.h: the unit disc in z = 0, holed to k0 (inner / outer radius),
-** placed (disc.c). */
+/* disc.h: a disc or a ring, placed (disc.c). */
 #ifndef LC_DISC_H
 #define LC_DISC_H
 
@@ -7,6 +6,8 @@
 
 /* A light sample (shape.h) is filled here, never read: the tag is enough. */
 struct light_sample;
+
+/* Canonically the unit disc in z = 0, holed to k0 (inner / outer radius). */
 
 lc_status disc_check(const lc_shape *s, lc_error *err);
 void      disc_prepare(const lc_shape *s, placed_geom *g);

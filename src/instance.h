@@ -1,5 +1,4 @@
-/* instance.h: moved meshes (instance.c): each mesh's own BVH, shared by
-** every placement of it and cached in the scene, and the rays through it. */
+/* instance.h: moved meshes, their BVHs and the rays through them (instance.c). */
 #ifndef LC_INSTANCE_H
 #define LC_INSTANCE_H
 
@@ -7,9 +6,10 @@
 #include "bvh.h"
 #include "geom.h"
 
-/* Builds (or reuses) the BVH of every instanced mesh and lists their faces
-** after the flat triangles in c->tris (room for instance_faces(s) more
-** entries must be there). */
+/* Builds (or reuses) the BVH of every instanced mesh, one for all its
+** placements, kept in the scene's cache, and lists their faces after the
+** flat triangles in c->tris (room for instance_faces(s) more entries must
+** be there). */
 size_t    instance_faces(const lc_scene *s);
 lc_status instance_compile(lc_scene *s, sig_atomic_t interrupts_seen, lc_error *err);
 void      instance_free_all(lc_scene *s);            /* the cache, at scene free */

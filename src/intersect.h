@@ -1,5 +1,4 @@
-/* intersect.h: rays against a compiled scene (intersect.c): the nearest
-** hit, any hit, one ray or a packet, and a hit's texture coordinates. */
+/* intersect.h: rays against a compiled scene, nearest or any hit (intersect.c). */
 #ifndef LC_INTERSECT_H
 #define LC_INTERSECT_H
 

@@ -1,5 +1,4 @@
-/* placed.h: the shapes intersected in their own space (placed.c: what
-** disc.c, cylinder.c, cone.c, torus.c and ellipsoid.c share). */
+/* placed.h: what the shapes placed by an affine map share (placed.c). */
 #ifndef LC_PLACED_H
 #define LC_PLACED_H
 

@@ -1,5 +1,4 @@
-/* query.h: what query.c gives the rest of the core besides the public
-** lc_scene_intersect and lc_scene_occluded (lancer.h). */
+/* query.h: the object a hit is on, for the rest of the core (query.c). */
 #ifndef LC_QUERY_H
 #define LC_QUERY_H
 

@@ -1,5 +1,4 @@
-/* torus.h: around the z axis, major radius 1, minor k0 < 1, placed; a
-** quartic (torus.c). */
+/* torus.h: a torus, placed (torus.c). */
 #ifndef LC_TORUS_H
 #define LC_TORUS_H
 
@@ -7,6 +6,8 @@
 
 /* A light sample (shape.h) is filled here, never read: the tag is enough. */
 struct light_sample;
+
+/* Canonically around the z axis, major radius 1, minor k0 < 1; a quartic. */
 
 lc_status torus_check(const lc_shape *s, lc_error *err);
 void      torus_prepare(const lc_shape *s, placed_geom *g);
