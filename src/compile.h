@@ -16,6 +16,5 @@ void      compile_free(compiled *c);
 /* The flat triangles' corners in b's leaf order (c.tleaf for c.bvh), for
 ** a hierarchy over the scene's primitives; NULL when out of memory. */
 tri_leaf *compile_tri_leaves(const lc_scene *s, const bvh *b);
-int       compile_depth(const lc_scene *s, const lc_render_options *o);
 
 #endif

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "camera.h"
+#include "csg.h"
 #include "error.h"
 #include "mem.h"
 #include "plan.h"

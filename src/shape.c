@@ -26,7 +26,7 @@
 **      completes the hit, its bit in COMPLETE), the nearest-hit switch kept
 **      there for speed, and the include of wedge.h;
 **   7. src/lua_shapes.c: its fields in kind_fields, its Lua constructor
-**      w_wedge (lancer.wedge{...}) and its entry in shapes_register;
+**      w_wedge (lancer.wedge{...}) and its entry in lb_shapes_register;
 **   8. src/csg.c, if it bounds a solid (CSG takes it as a leaf): a case in
 **      closed_kind and in shape_cross, and, if its geometry is none of
 **      sphere_geom, box_geom and placed_geom, a member in csg_leaf's union

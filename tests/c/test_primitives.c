@@ -18,11 +18,6 @@
 #include "disc.h"
 #include "ellipsoid.h"
 #include "torus.h"
-static ray mkray(lc_vec3 o, lc_vec3 d)
-{
-    ray r = {o, v3_norm(d)};
-    return r;
-}
 
 /* One shape prepared as the scene would: checked, then its geometry. */
 static placed_geom prepare(lc_shape s)

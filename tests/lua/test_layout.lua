@@ -171,8 +171,8 @@ local function check_kind(X, missing)
   need(has(body(lua, "kind_fields", "src/lua_shapes.c"), "[" .. LC .. "]"),
        "src/lua_shapes.c kind_fields", LC)
   need(lua:find("\nstatic int w_" .. x .. "%("), "src/lua_shapes.c", "w_" .. x)
-  need(has(body(lua, "shapes_register", "src/lua_shapes.c"),
-           "{\"" .. x .. "\", w_" .. x .. "}"), "src/lua_shapes.c shapes_register", x)
+  need(has(body(lua, "lb_shapes_register", "src/lua_shapes.c"),
+           "{\"" .. x .. "\", w_" .. x .. "}"), "src/lua_shapes.c lb_shapes_register", x)
   -- 8. csg.c and csg.h, for the kinds that bound a solid.
   local csg = code("src/csg.c")
   if has(body(csg, "closed_kind", "src/csg.c"), LC) then
