@@ -1,5 +1,5 @@
 /* dielectric.h: Snell's law and the exact Fresnel reflectance of a smooth
-** dielectric interface (pbrt-v4's Refract and FrDielectric; NUMERICS.md
+** dielectric interface (pbrt-v4's Refract and FrDielectric; docs/numerics.md
 ** 1.10). eta is n_t / n_i: the index past the surface over the index on the
 ** ray's side. */
 #ifndef LC_DIELECTRIC_H

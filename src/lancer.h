@@ -936,7 +936,7 @@ lc_status lc_image_compare(const lc_image *a, const lc_image *b, double tol,
                            lc_image_diff *d, lc_error *err);   /* same size */
 
 /* How far an image is from a reference, over every channel of every pixel,
-** on linear values (NUMERICS.md 3.1), summed in double. */
+** on linear values (docs/numerics.md 3.1), summed in double. */
 typedef struct {
     double mse;           /* mean (x - ref)^2 */
     double rmse;          /* sqrt(mse) */

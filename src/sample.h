@@ -10,7 +10,7 @@
 /* A pixel's sample set is keyed by (seed, frame, pixel); inside it, each 2D
 ** dimension (pixel area, lens, the cone at depth d, emitter e at depth d...)
 ** is a separate, independently scrambled point set, so dimensions never
-** correlate (NUMERICS.md 1.11: no duplicated reflections). Point `index` of
+** correlate (docs/numerics.md 1.11: no duplicated reflections). Point `index` of
 ** `count` is the sample's place in that set: camera sample s of N is index
 ** s of N; cone or light sample j of M taken by camera sample s is index
 ** s*M + j of N*M, so all N*M points of the pixel are stratified together. */
@@ -194,7 +194,7 @@ static inline void sample_frame(lc_vec3 a, lc_vec3 *b1, lc_vec3 *b2)
 
 /* A direction uniform in solid angle inside the cone of unit axis a whose
 ** half-angle has 1 - cos = omc (passed as such: no cancellation for tiny
-** cones; NUMERICS.md 1.11). */
+** cones; docs/numerics.md 1.11). */
 static inline lc_vec3 sample_cone(lc_vec3 a, double omc, const double u[2])
 {
     double one_minus = u[0] * omc, c = 1 - one_minus;

@@ -3,7 +3,7 @@
 ** Built only by `make MINIMAL=1` (build/minimal), in place of shade.c: the
 ** same shade_ray with everything but the diffuse path compiled out, so the
 ** bench (tools/bench/parity.lua) prices what the full shading costs on a
-** scene that needs none of it (NUMERICS.md S7: <= 1.05x). What is left: the
+** scene that needs none of it (docs/numerics.md S7: <= 1.05x). What is left: the
 ** closest hit, the background on a miss, and per point light n.l > 0, one
 ** shadow ray, kd C I cos / d^2, plus ka C Ia. No specular, mirrors, cutoff,
 ** emitters, plans, switches (shadows, cosine), radiance cap, self-hit watch
