@@ -5,7 +5,7 @@
 #include "aov.h"
 #include "error.h"
 #include "mem.h"
-#include "shade.h"
+#include "tracer.h"
 #include "query.h"
 
 static const char *const aov_names[LC_AOVS] = {

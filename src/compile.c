@@ -1,15 +1,13 @@
-/* compile.c: what a render needs from the scene: the BVH over every bounded
-** primitive (moved meshes as one primitive each), the triangle list, and the
-** plan of the effects the frame calls for (plan.c). */
+/* compile.c: the geometry a render and the caller's rays need: the BVH over
+** every bounded primitive (moved meshes as one primitive each) and the
+** triangle list. The effects a frame calls for are the plan's (plan.c). */
 #include <stdlib.h>
 #include <string.h>
 #include "error.h"
 #include "scene.h"
-#include "clock.h"
 #include "interrupt.h"
 #include "mem.h"
 #include "pair.h"
-#include "plan.h"
 #include "sky.h"
 #include "compile.h"
 #include "instance.h"
@@ -231,27 +229,6 @@ lc_status compile_geometry(lc_scene *s, sig_atomic_t seen, lc_error *err)
         c->valid = 1;
         c->faces_seen = faces;
     }
-    error_ok(err);
-    return LC_OK;
-}
-
-lc_status compile_scene(lc_scene *s, const lc_render_options *o, sig_atomic_t seen,
-                        lc_error *err)
-{
-    double t0 = clock_seconds();
-    lc_status st = compile_geometry(s, seen, err);
-    if (st != LC_OK)
-        return st;
-    compiled *c = &s->c;
-    /* Out of memory for the plan: the geometry stays, for the rays that
-    ** other threads may be casting into it (query.c). */
-    if (plan_frame(s, o, err))
-        return LC_ENOMEM;
-    if ((c->needs & LC_NEED_INDIRECT) && c->sky_lights && sky_dist_build(s, &c->sky, err))
-        return LC_ENOMEM;
-    if (!(c->needs & LC_NEED_INDIRECT))
-        sky_dist_free(&c->sky);
-    c->seconds = clock_seconds() - t0;
     error_ok(err);
     return LC_OK;
 }

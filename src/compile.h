@@ -5,10 +5,6 @@
 #include <signal.h>
 #include "scene.h"
 
-/* o: the render's switches, or NULL for the defaults; a BVH build stops
-** with LC_ECANCEL once interrupt_count() differs from interrupts_seen. */
-lc_status compile_scene(lc_scene *s, const lc_render_options *o,
-                        sig_atomic_t interrupts_seen, lc_error *err);
 /* The triangles and the BVH only, rebuilt when the geometry changed: what
 ** rays cast by the caller (query.c) need. */
 lc_status compile_geometry(lc_scene *s, sig_atomic_t interrupts_seen, lc_error *err);

@@ -1,5 +1,6 @@
-/* plan.c: the render layer: which effects a frame needs (LC_NEED_*), why each
-** is on or off, and each material's shading plan (PLAN_*). An effect no
+/* plan.c: the render layer's plan of a frame: which effects it needs
+** (LC_NEED_*), why each is on or off, and each material's shading plan
+** (PLAN_*), after the geometry (compile.c) is up to date. An effect no
 ** material in use can show is never reached by the render loop and spawns
 ** no ray; an effect is one row of `effects` below. */
 #include <float.h>
@@ -8,10 +9,13 @@
 #include <stdio.h>
 #include <string.h>
 #include "camera.h"
+#include "clock.h"
+#include "compile.h"
 #include "csg.h"
 #include "error.h"
 #include "mem.h"
 #include "plan.h"
+#include "sky.h"
 #include "texture.h"
 
 /* First material in use (1-based, in the order the scene met them) with
@@ -473,5 +477,26 @@ lc_status plan_frame(lc_scene *s, const lc_render_options *o, lc_error *err)
                 textures_use_uv(s->textures, s->settings.background_texture - 1);
     for (size_t i = 0; i < s->nmaterials; i++)
         c->plan[i] = material_plan(&s->materials[i], needs, o);
+    return LC_OK;
+}
+
+lc_status plan_scene(lc_scene *s, const lc_render_options *o, sig_atomic_t seen,
+                     lc_error *err)
+{
+    double t0 = clock_seconds();
+    lc_status st = compile_geometry(s, seen, err);
+    if (st != LC_OK)
+        return st;
+    compiled *c = &s->c;
+    /* Out of memory for the plan: the geometry stays, for the rays that
+    ** other threads may be casting into it (query.c). */
+    if (plan_frame(s, o, err))
+        return LC_ENOMEM;
+    if ((c->needs & LC_NEED_INDIRECT) && c->sky_lights && sky_dist_build(s, &c->sky, err))
+        return LC_ENOMEM;
+    if (!(c->needs & LC_NEED_INDIRECT))
+        sky_dist_free(&c->sky);
+    c->seconds = clock_seconds() - t0;
+    error_ok(err);
     return LC_OK;
 }

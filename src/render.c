@@ -17,6 +17,7 @@
 #include "clock.h"
 #include "mem.h"
 #include "compile.h"
+#include "plan.h"
 #include "intersect.h"
 
 #define TILE 16
@@ -299,7 +300,7 @@ static lc_status explain_locked(lc_scene *s, const lc_render_options *o, int x, 
                        sample + 1);
     if (!s->has_camera)
         return error_fail(err, LC_EARG, "camera", "the scene has no camera");
-    if (compile_scene(s, o, interrupt_count(), err))
+    if (plan_scene(s, o, interrupt_count(), err))
         return err ? err->code : LC_ENOMEM;
     job j;
     memset(&j, 0, sizeof j);
@@ -626,7 +627,7 @@ static lc_image *render_locked(lc_scene *s, const lc_render_options *o, lc_stats
     ** between tiles, between adaptive passes. */
     sig_atomic_t interrupts_seen = interrupt_count();
     double t0 = clock_seconds();
-    if (compile_scene(s, o, interrupts_seen, err))
+    if (plan_scene(s, o, interrupts_seen, err))
         return NULL;
     double t1 = clock_seconds();
     job j;

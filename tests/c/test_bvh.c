@@ -13,6 +13,7 @@
 #include "scene.h"
 #include "helpers.h"
 #include "compile.h"
+#include "plan.h"
 #include "intersect.h"
 #include "triangle.h"
 
@@ -91,7 +92,7 @@ static void bvh_matches_brute_force(void **state)
     }
     assert_true(lc_scene_add_mesh(s, mesh, mi, &err) >= 0);
     lc_mesh_free(mesh);                      /* the scene keeps its own hold */
-    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
+    assert_int_equal(plan_scene(s, NULL, 0, &err), LC_OK);
     assert_true(s->c.bvh.nnodes > 1);
 
     int hits = 0, mismatches = 0;
@@ -276,7 +277,7 @@ static void mesh_is_watertight(void **state)
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
     assert_true(lc_scene_add_mesh(s, mesh, mi, &err) >= 0);
-    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
+    assert_int_equal(plan_scene(s, NULL, 0, &err), LC_OK);
     assert_true(s->c.degenerate > 0);        /* the poles' zero-area faces */
 
     int rays = 0, misses = 0;
@@ -342,7 +343,7 @@ static void large_face_lists_keep_their_order(void **state)
         free(v);
         free(f);
     }
-    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
+    assert_int_equal(plan_scene(s, NULL, 0, &err), LC_OK);
     size_t skipped = nfs[0] / 1000 + nfs[1] / 1000;
     assert_int_equal(s->c.degenerate, skipped);
     assert_int_equal(s->c.ntris, nfs[0] + nfs[1] - skipped);
@@ -390,7 +391,7 @@ static void large_shape_lists_are_bounded_whole(void **state)
                       .v = {0, 1, 0}, .w = {0, 0, 1}};
         assert_true(lc_scene_add_shape(s, &b, mi, &err) >= 0);
     }
-    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
+    assert_int_equal(plan_scene(s, NULL, 0, &err), LC_OK);
     for (size_t i = 0; i < nbox; i += 997) {
         for (int kind = 0; kind < 2; kind++) {
             if (kind == 0 && i >= nsph)
@@ -420,7 +421,7 @@ static void degenerate_triangles_are_skipped(void **state)
     lc_material m = lc_material_default();
     int mi = lc_scene_add_material(s, &m, &err);
     lc_scene_add_mesh(s, mesh, mi, &err);
-    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
+    assert_int_equal(plan_scene(s, NULL, 0, &err), LC_OK);
     assert_int_equal(s->c.degenerate, 3);
     assert_int_equal(s->c.ntris, 0);
     ray r = {v3(1, 1, -5), v3(0, 0, 1)};

@@ -17,6 +17,7 @@
 #include "scene.h"
 #include "helpers.h"
 #include "compile.h"
+#include "plan.h"
 #include "intersect.h"
 #include "csg.h"
 
@@ -93,7 +94,7 @@ static lc_scene *csg_scene(const lc_csg_node *nodes, size_t n)
     }
     if (lc_scene_add_csg(s, nodes, n, &err) < 0)
         fail_msg("add: %s (field '%s')", err.msg, err.field);
-    if (compile_scene(s, NULL, interrupt_count(), &err))
+    if (plan_scene(s, NULL, interrupt_count(), &err))
         fail_msg("compile: %s", err.msg);
     return s;
 }
@@ -101,7 +102,7 @@ static lc_scene *csg_scene(const lc_csg_node *nodes, size_t n)
 static void compile_or_fail(lc_scene *s)
 {
     lc_error err;
-    if (compile_scene(s, NULL, interrupt_count(), &err))
+    if (plan_scene(s, NULL, interrupt_count(), &err))
         fail_msg("compile: %s", err.msg);
 }
 

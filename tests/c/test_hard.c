@@ -11,6 +11,7 @@
 #include "scene.h"
 #include "helpers.h"
 #include "compile.h"
+#include "plan.h"
 #include "intersect.h"
 #include "triangle.h"
 
@@ -77,7 +78,7 @@ static void add_shape(lc_scene *s, lc_shape sh, int mat)
 static void compile(lc_scene *s)
 {
     lc_error err;
-    if (compile_scene(s, NULL, 0, &err) != LC_OK)
+    if (plan_scene(s, NULL, 0, &err) != LC_OK)
         fail_msg("compile: %s", err.msg);
 }
 

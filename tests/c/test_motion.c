@@ -11,6 +11,7 @@
 #include "scene.h"
 #include "helpers.h"
 #include "compile.h"
+#include "plan.h"
 #include "intersect.h"
 
 /* ---- Helpers ------------------------------------------------------------- */
@@ -349,7 +350,7 @@ static void instance_spawns_never_self_hit(void **state)
             lc_mesh *m = uvs_mesh(&u, NULL);
             assert_true(lc_scene_add_mesh_moved(sc, m, &t, mi, &err) >= 0);
             lc_mesh_free(m);
-            assert_int_equal(compile_scene(sc, NULL, 0, &err), LC_OK);
+            assert_int_equal(plan_scene(sc, NULL, 0, &err), LC_OK);
             for (int k = 0; k < 400; k++) {
                 const uint32_t *f = u.f + 3 * (k % u.nf);
                 lc_vec3 p[3];

@@ -17,6 +17,7 @@
 #include "bvh_packet.h"
 #include "helpers.h"
 #include "compile.h"
+#include "plan.h"
 #include "intersect.h"
 
 #define M_PI 3.14159265358979323846
@@ -157,7 +158,7 @@ static lc_scene *mixed_scene(void)
         assert_true(lc_scene_add_mesh_moved(s, oct, &x, mi, &err) >= 0);
     }
     lc_mesh_free(oct);
-    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
+    assert_int_equal(plan_scene(s, NULL, 0, &err), LC_OK);
     assert_true(s->c.bvh.nnodes > 20);
     return s;
 }
@@ -501,7 +502,7 @@ static void lone_leaf_matches_the_scan(void **state)
                       .w = {0, 0, 1.6}}, mi);
     add(s, (lc_shape){.kind = LC_PLANE, .p = {0, 0, 0}, .u = {0, 1, 0}}, mi);
     add(s, (lc_shape){.kind = LC_PLANE, .p = {0, 0, -6}, .u = {0, 0, 1}}, mi);
-    assert_int_equal(compile_scene(s, NULL, 0, &err), LC_OK);
+    assert_int_equal(plan_scene(s, NULL, 0, &err), LC_OK);
     assert_true(bvh_lone_leaf(&s->c.bvh));
     reference ref;
     reference_init(&ref, s);
