@@ -225,6 +225,60 @@ static double srgb_to_linear(double v)
 ** every stored value: libpng's simplified reader goes through 8 bits and
 ** approximates sRGB by a power of 2.2, up to 4/255 off in the darks. Then
 ** composited onto black where the file is transparent (alpha or tRNS). */
+/* Sets libpng's transforms so that rows read as 8- or 16-bit RGB, with
+** alpha only when decoding (decode: the sRGB encoding, which premultiplies
+** it); then the file's transfer curve: 1 for sRGB (the default of 8-bit
+** files), else 0 with its gamma in *gamma. */
+static int read_as_rgb(png_structp png, png_infop info, int decode, double *gamma)
+{
+    int depth = png_get_bit_depth(png, info), type = png_get_color_type(png, info);
+    if (type == PNG_COLOR_TYPE_PALETTE)
+        png_set_palette_to_rgb(png);
+    if (type == PNG_COLOR_TYPE_GRAY || type == PNG_COLOR_TYPE_GRAY_ALPHA)
+        png_set_gray_to_rgb(png);
+    if (depth < 8)
+        png_set_expand(png);
+    int trns = png_get_valid(png, info, PNG_INFO_tRNS) != 0;
+    if (trns)
+        png_set_tRNS_to_alpha(png);
+    if (!decode && (trns || (type & PNG_COLOR_MASK_ALPHA)))
+        png_set_strip_alpha(png);
+    int declared = png_get_valid(png, info, PNG_INFO_sRGB) ||
+                   (png_get_gAMA(png, info, gamma) && *gamma > 0);
+    if (!declared)                     /* libpng's rule: 8 bits sRGB, 16 linear */
+        *gamma = depth == 16 ? 1 : 0;
+    int srgb = png_get_valid(png, info, PNG_INFO_sRGB) || !(*gamma > 0);
+    if (depth == 16)
+        png_set_swap(png);             /* PNG is big-endian; read native order */
+    png_set_interlace_handling(png);   /* Adam7: every pass lands in place */
+    png_read_update_info(png, info);
+    return srgb;
+}
+
+/* The rows as read (ch channels of `bytes` bytes, alpha last) into img's
+** linear RGB through curve, premultiplied by alpha when there is one. */
+static void store_rows(lc_image *img, const png_bytep *rows, int ch, int bytes,
+                       const float *curve)
+{
+    unsigned max = bytes == 2 ? 65535 : 255;
+    size_t w = (size_t)img->width;
+    for (size_t y = 0; y < (size_t)img->height; y++) {
+        float *dst = img->px + y * w * 3;
+        const uint16_t *r16 = (const uint16_t *)(const void *)rows[y];
+        const unsigned char *r8 = rows[y];
+        for (size_t x = 0; x < w; x++) {
+            size_t at = x * (size_t)ch;
+            double a = 1;
+            if (ch == 4)
+                a = (bytes == 2 ? r16[at + 3] : r8[at + 3]) / (double)max;
+            for (size_t c = 0; c < 3; c++) {
+                unsigned v = bytes == 2 ? r16[at + c] : r8[at + c];
+                dst[3 * x + c] = ch == 4 ? (float)(curve[v] * a) : curve[v];
+            }
+        }
+    }
+}
+
 static lc_image *read_png(const char *path, int decode, lc_error *err)
 {
     FILE *fp = fopen(path, "rb");
@@ -261,30 +315,10 @@ static lc_image *read_png(const char *path, int decode, lc_error *err)
     png_init_io(png, fp);
     png_read_info(png, info);
     png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
-    int depth = png_get_bit_depth(png, info), type = png_get_color_type(png, info);
     if ((refused = check_size(w, h, path, err)) != LC_OK)
         png_error(png, "refused");
-    if (type == PNG_COLOR_TYPE_PALETTE)
-        png_set_palette_to_rgb(png);
-    if (type == PNG_COLOR_TYPE_GRAY || type == PNG_COLOR_TYPE_GRAY_ALPHA)
-        png_set_gray_to_rgb(png);
-    if (depth < 8)
-        png_set_expand(png);
-    int trns = png_get_valid(png, info, PNG_INFO_tRNS) != 0;
-    if (trns)
-        png_set_tRNS_to_alpha(png);
-    if (!decode && (trns || (type & PNG_COLOR_MASK_ALPHA)))
-        png_set_strip_alpha(png);
     double gamma = 0;
-    int declared = png_get_valid(png, info, PNG_INFO_sRGB) ||
-                   (png_get_gAMA(png, info, &gamma) && gamma > 0);
-    if (!declared)                     /* libpng's rule: 8 bits sRGB, 16 linear */
-        gamma = depth == 16 ? 1 : 0;
-    int srgb = png_get_valid(png, info, PNG_INFO_sRGB) || !(gamma > 0);
-    if (depth == 16)
-        png_set_swap(png);             /* PNG is big-endian; read native order */
-    png_set_interlace_handling(png);   /* Adam7: every pass lands in place */
-    png_read_update_info(png, info);
+    int srgb = read_as_rgb(png, info, decode, &gamma);
     int bytes = png_get_bit_depth(png, info) == 16 ? 2 : 1;
     int ch = png_get_channels(png, info);        /* 3, or 4 with alpha */
     size_t rowbytes = png_get_rowbytes(png, info);
@@ -308,21 +342,7 @@ static lc_image *read_png(const char *path, int decode, lc_error *err)
     png_read_image(png, rows);
     /* No png_read_end: what follows the image data (text, a bad CRC there)
     ** is not read, so that a file reads in both encodings or in neither. */
-    for (png_uint_32 y = 0; y < h; y++) {
-        float *dst = img->px + (size_t)y * w * 3;
-        const uint16_t *r16 = (const uint16_t *)(const void *)rows[y];
-        const unsigned char *r8 = rows[y];
-        for (png_uint_32 x = 0; x < w; x++) {
-            size_t at = (size_t)x * (size_t)ch;
-            double a = 1;
-            if (ch == 4)
-                a = (bytes == 2 ? r16[at + 3] : r8[at + 3]) / (double)max;
-            for (int c = 0; c < 3; c++) {
-                unsigned v = bytes == 2 ? r16[at + (size_t)c] : r8[at + (size_t)c];
-                dst[3 * x + (png_uint_32)c] = ch == 4 ? (float)(curve[v] * a) : curve[v];
-            }
-        }
-    }
+    store_rows(img, (const png_bytep *)rows, ch, bytes, curve);
     png_destroy_read_struct(&png, &info, NULL);
     fclose(fp);
     mem_free(rows);
