@@ -205,43 +205,83 @@ static inline void bvh_ray_init(bvh_ray *q, lc_vec3 o, lc_vec3 d)
 ** same boxes in the same order, and images cannot tell them apart. The
 ** bounds stay floats (memory), the arithmetic is double (the robust
 ** geometry's): four lanes of double are one AVX instruction, as four
-** lanes of float would be one SSE instruction, plus one conversion. */
+** lanes of float would be one SSE instruction, plus one conversion.
+**
+** A packet of rays (bvh_packet.h) is tested as one: the same code, given
+** the bounds of its rays' reciprocals per axis, ilo in q->inv and ihi
+** beside it. Why a box this test rejects is one no ray of the packet
+** enters by its own test (with its tmax at most the packet's): a ray's
+** near distance on an axis is fl(a * inv), a = fl(bound - o) the same for
+** every ray of the packet (they share o). Rounding is monotonic: fl(a * x)
+** grows with x when a >= 0 and falls when a < 0, so over inv in
+** [ilo, ihi] it is at least the smaller of fl(a * ilo) and fl(a * ihi).
+** The far distances are bounded above by the larger, then enlarged by the
+** same BVH_WIDEN. The packet's entry (the larger of 0 and the near bounds,
+** shrunk) is then at most every ray's, its exit (the smaller of the
+** packet's tmax and the far bounds) at least every ray's: if one ray
+** enters, the packet does. All of a packet's reciprocals are finite and
+** of one sign, so no product is NaN (an overflow is an infinity, still in
+** order) and the two products of a zero have one sign. */
+
+/* The box tests take one ray q (ihi NULL) or a packet (ihi its largest
+** reciprocals, q->inv its smallest). The traversals pass the NULL as a
+** constant: for one ray the packet's products are not compiled at all. */
+typedef unsigned (*bvh_box_test)(const bvh_node *nd, const bvh_ray *q, const double *ihi,
+                                 double tmax, double t[BVH_WIDTH]);
+
+/* Child c of node nd: 1 when the ray (or packet) meets its box before
+** tmax, its entry distance into *entry. */
+ALWAYS_INLINE int bvh_slabs_child(const bvh_node *nd, unsigned c, const bvh_ray *q,
+                                  const double *ihi, double tmax, double *entry)
+{
+    double t0 = 0, t1 = tmax;
+    for (int k = 0; k < 3; k++) {
+        double lo = (double)nd->lo[k][c] - q->o[k], hi = (double)nd->hi[k][c] - q->o[k];
+        double near, far;
+        if (!ihi) {          /* both products, then the choice: no branch */
+            double a = lo * q->inv[k], b = hi * q->inv[k];
+            near = q->neg[k] ? b : a;
+            far = q->neg[k] ? a : b;
+        } else {             /* the choice, then the four products */
+            double a = q->neg[k] ? hi : lo, b = q->neg[k] ? lo : hi;
+            double n0 = a * q->inv[k], n1 = a * ihi[k], f0 = b * q->inv[k], f1 = b * ihi[k];
+            near = n0 < n1 ? n0 : n1;
+            far = f0 > f1 ? f0 : f1;
+        }
+        far *= BVH_WIDEN;
+        t0 = near > t0 ? near : t0;
+        t1 = far < t1 ? far : t1;
+    }
+    t0 *= BVH_SHRINK;
+    *entry = t0;
+    return t0 <= t1;
+}
 
 /* Entry distances of the node's children into t[] (for those the ray
 ** meets before tmax), and a mask of them. */
-ALWAYS_INLINE unsigned bvh_test_scalar(const bvh_node *nd, const bvh_ray *q, double tmax,
-                                       double t[BVH_WIDTH])
+ALWAYS_INLINE unsigned bvh_slabs_scalar(const bvh_node *nd, const bvh_ray *q,
+                                        const double *ihi, double tmax, double t[BVH_WIDTH])
 {
     unsigned mask = 0;
-    for (uint32_t c = 0; c < nd->n; c++) {
-        double t0 = 0, t1 = tmax;
-        for (int k = 0; k < 3; k++) {
-            double a = ((double)nd->lo[k][c] - q->o[k]) * q->inv[k];
-            double b = ((double)nd->hi[k][c] - q->o[k]) * q->inv[k];
-            double near = q->neg[k] ? b : a, far = (q->neg[k] ? a : b) * BVH_WIDEN;
-            t0 = near > t0 ? near : t0;
-            t1 = far < t1 ? far : t1;
-        }
-        t0 *= BVH_SHRINK;
-        t[c] = t0;
-        if (t0 <= t1)
+    for (uint32_t c = 0; c < nd->n; c++)
+        if (bvh_slabs_child(nd, c, q, ihi, tmax, &t[c]))
             mask |= 1u << c;
-    }
     return mask;
 }
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(LC_NO_SIMD)
 #include <immintrin.h>
 #define BVH_HAVE_SIMD 1
-/* Functions calling bvh_test_avx carry BVH_AVX_TARGET, those calling
-** bvh_test_avx512 BVH_AVX512_TARGET: nothing more (no FMA: the geometry
+/* Functions calling bvh_slabs_avx carry BVH_AVX_TARGET, those calling
+** bvh_slabs_avx512 BVH_AVX512_TARGET: nothing more (no FMA: the geometry
 ** is built without contraction). */
 #define BVH_AVX_TARGET    __attribute__((target("avx")))
 #define BVH_AVX512_TARGET __attribute__((target("avx512f")))
 
 /* Four lanes of double at a time: the children in groups of four. */
-BVH_AVX_TARGET ALWAYS_INLINE unsigned bvh_test_avx(const bvh_node *nd, const bvh_ray *q,
-                                                   double tmax, double t[BVH_WIDTH])
+BVH_AVX_TARGET ALWAYS_INLINE unsigned bvh_slabs_avx(const bvh_node *nd, const bvh_ray *q,
+                                                    const double *ihi, double tmax,
+                                                    double t[BVH_WIDTH])
 {
     const __m256d widen = _mm256_set1_pd(BVH_WIDEN), shrink = _mm256_set1_pd(BVH_SHRINK);
     unsigned in = 0;
@@ -251,10 +291,14 @@ BVH_AVX_TARGET ALWAYS_INLINE unsigned bvh_test_avx(const bvh_node *nd, const bvh
             const float *nb = (q->neg[k] ? nd->hi[k] : nd->lo[k]) + g;
             const float *fb = (q->neg[k] ? nd->lo[k] : nd->hi[k]) + g;
             __m256d o = _mm256_set1_pd(q->o[k]), inv = _mm256_set1_pd(q->inv[k]);
-            __m256d near = _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(nb)), o),
-                                         inv);
-            __m256d far = _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(fb)), o),
-                                        inv);
+            __m256d a = _mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(nb)), o);
+            __m256d b = _mm256_sub_pd(_mm256_cvtps_pd(_mm_load_ps(fb)), o);
+            __m256d near = _mm256_mul_pd(a, inv), far = _mm256_mul_pd(b, inv);
+            if (ihi) {
+                __m256d hi = _mm256_set1_pd(ihi[k]);
+                near = _mm256_min_pd(near, _mm256_mul_pd(a, hi));
+                far = _mm256_max_pd(far, _mm256_mul_pd(b, hi));
+            }
             far = _mm256_mul_pd(far, widen);
             t0 = _mm256_max_pd(near, t0);
             t1 = _mm256_min_pd(far, t1);
@@ -273,22 +317,26 @@ BVH_AVX_TARGET ALWAYS_INLINE unsigned bvh_test_avx(const bvh_node *nd, const bvh
 ** at most four children takes AVX's four lanes instead: B1's one node
 ** of two ran about 6 % slower under 512-bit operations (the processor
 ** clocks down for them), B3's full nodes 5 % faster. */
-BVH_AVX512_TARGET ALWAYS_INLINE unsigned bvh_test_avx512(const bvh_node *nd,
-                                                         const bvh_ray *q, double tmax,
-                                                         double t[BVH_WIDTH])
+BVH_AVX512_TARGET ALWAYS_INLINE unsigned bvh_slabs_avx512(const bvh_node *nd,
+                                                          const bvh_ray *q, const double *ihi,
+                                                          double tmax, double t[BVH_WIDTH])
 {
     if (nd->n <= 4)
-        return bvh_test_avx(nd, q, tmax, t);
+        return bvh_slabs_avx(nd, q, ihi, tmax, t);
     __m512d t0 = _mm512_setzero_pd(), t1 = _mm512_set1_pd(tmax);
     const __m512d widen = _mm512_set1_pd(BVH_WIDEN), shrink = _mm512_set1_pd(BVH_SHRINK);
     for (int k = 0; k < 3; k++) {
         const float *nb = q->neg[k] ? nd->hi[k] : nd->lo[k];
         const float *fb = q->neg[k] ? nd->lo[k] : nd->hi[k];
         __m512d o = _mm512_set1_pd(q->o[k]), inv = _mm512_set1_pd(q->inv[k]);
-        __m512d near = _mm512_mul_pd(_mm512_sub_pd(_mm512_cvtps_pd(_mm256_load_ps(nb)), o),
-                                     inv);
-        __m512d far = _mm512_mul_pd(_mm512_sub_pd(_mm512_cvtps_pd(_mm256_load_ps(fb)), o),
-                                    inv);
+        __m512d a = _mm512_sub_pd(_mm512_cvtps_pd(_mm256_load_ps(nb)), o);
+        __m512d b = _mm512_sub_pd(_mm512_cvtps_pd(_mm256_load_ps(fb)), o);
+        __m512d near = _mm512_mul_pd(a, inv), far = _mm512_mul_pd(b, inv);
+        if (ihi) {
+            __m512d hi = _mm512_set1_pd(ihi[k]);
+            near = _mm512_min_pd(near, _mm512_mul_pd(a, hi));
+            far = _mm512_max_pd(far, _mm512_mul_pd(b, hi));
+        }
         far = _mm512_mul_pd(far, widen);
         t0 = _mm512_max_pd(near, t0);
         t1 = _mm512_min_pd(far, t1);
@@ -299,17 +347,37 @@ BVH_AVX512_TARGET ALWAYS_INLINE unsigned bvh_test_avx512(const bvh_node *nd,
     return in & ((1u << nd->n) - 1);
 }
 #else
-#define bvh_test_avx512 bvh_test_avx
+#define bvh_slabs_avx512 bvh_slabs_avx
 #endif
 #else
 #define BVH_HAVE_SIMD 0
 #define BVH_AVX_TARGET
 #define BVH_AVX512_TARGET
-#define bvh_test_avx bvh_test_scalar
-#define bvh_test_avx512 bvh_test_scalar
+#define bvh_slabs_avx bvh_slabs_scalar
+#define bvh_slabs_avx512 bvh_slabs_scalar
 #endif
 
-/* Which box test traversals use: BVH_SIMD_OFF (bvh_test_scalar),
+/* The tests of one ray, as the tests of the box test call them. */
+ALWAYS_INLINE unsigned bvh_test_scalar(const bvh_node *nd, const bvh_ray *q, double tmax,
+                                       double t[BVH_WIDTH])
+{
+    return bvh_slabs_scalar(nd, q, NULL, tmax, t);
+}
+
+BVH_AVX_TARGET ALWAYS_INLINE unsigned bvh_test_avx(const bvh_node *nd, const bvh_ray *q,
+                                                   double tmax, double t[BVH_WIDTH])
+{
+    return bvh_slabs_avx(nd, q, NULL, tmax, t);
+}
+
+BVH_AVX512_TARGET ALWAYS_INLINE unsigned bvh_test_avx512(const bvh_node *nd,
+                                                         const bvh_ray *q, double tmax,
+                                                         double t[BVH_WIDTH])
+{
+    return bvh_slabs_avx512(nd, q, NULL, tmax, t);
+}
+
+/* Which box test traversals use: BVH_SIMD_OFF (bvh_slabs_scalar),
 ** BVH_SIMD_AVX or BVH_SIMD_AVX512, the best the processor has unless the
 ** environment says LANCER_SIMD=0 (off) or 1 (AVX at most). Decided once,
 ** by the first build. All three give the same bits. */
@@ -320,49 +388,93 @@ void bvh_simd_init(void);
 ** the previous setting. */
 int  bvh_simd_set(int level);
 
-/* A pushed child: a node (count 0) or a leaf, and its entry distance. */
-typedef struct {
-    uint32_t child, count;
-    double   t;
-} bvh_entry;
+/* The two walks, each written once for one ray and for a packet, for the
+** scene and for every mesh instance. They take their box test and their
+** leaf tests as functions, called with constants: once a walk is inlined
+** into its one caller, so are they. The callers come in threes, one built
+** for each box test (BVH_DISPATCH, below). A leaf is named by its node
+** and slot: refs[nd->child[slot], + nd->count[slot]), its box the slot's
+** (a packet tests its rays on it one by one). Both walks count their box
+** tests into *nodes. */
 
-/* The traversals take their leaf test and their box test as functions,
-** called with constants: once the traversal is inlined into its one
-** caller, so are they. The callers come in threes, one built for each
-** box test (BVH_DISPATCH, below). */
+/* The per-primitive form of a leaf test (the position at lets a caller
+** keep data in leaf order beside refs): a closest-hit search's returns
+** tmax, shrunk when it found a nearer hit; an any-hit search's returns
+** nonzero when refs[at] blocks the ray. */
+typedef double (*bvh_prim_closest)(void *ctx, uint32_t at, double tmax);
+typedef int    (*bvh_prim_any)(void *ctx, uint32_t at, double tmax);
+/* The whole-leaf form: a closest-hit search's returns tmax as prim would
+** have after the last; an any-hit search's returns 1 to end the walk (the
+** ray blocked, or every ray of the packet) and may lower *tmax (to the
+** largest of the rays still looking). */
+typedef double (*bvh_leaf_closest)(void *ctx, const bvh_node *nd, unsigned slot,
+                                   double tmax);
+typedef int    (*bvh_leaf_any)(void *ctx, const bvh_node *nd, unsigned slot, double *tmax);
 
-/* Closest hit: visits the leaves that may hold a hit nearer than tmax,
-** nearer children first, skipping one once a hit lies before it.
-** leaf(ctx, at, tmax) tests the primitive refs[at] (the position lets a
-** caller keep data in leaf order beside refs) and returns tmax, shrunk when
-** it found a nearer hit. Returns the number of box tests. */
-
-/* A leaf of the closest-hit search: run, or leaf on each primitive. */
-ALWAYS_INLINE double bvh_leaf_run(void *ctx, uint32_t at, uint32_t count, double tmax,
-                                  double (*leaf)(void *ctx, uint32_t at, double tmax),
-                                  double (*run)(void *ctx, uint32_t at, uint32_t count,
-                                                double tmax))
+/* Leaf slot of nd in a closest-hit walk: leaf, or prim on each primitive
+** in order. */
+ALWAYS_INLINE double bvh_closest_leaf(void *ctx, const bvh_node *nd, unsigned slot,
+                                      double tmax, bvh_prim_closest prim,
+                                      bvh_leaf_closest leaf)
 {
-    if (run)
-        return run(ctx, at, count, tmax);
+    if (leaf)
+        return leaf(ctx, nd, slot, tmax);
+    uint32_t at = nd->child[slot], count = nd->count[slot];
     for (uint32_t k = 0; k < count; k++)
-        tmax = leaf(ctx, at + k, tmax);
+        tmax = prim(ctx, at + k, tmax);
     return tmax;
 }
 
-/* bvh_closest with run(ctx, at, count, tmax) testing a whole leaf,
-** refs[at, at + count), and returning tmax as leaf() would have after the
-** last (NULL: leaf() on each, in order). */
-ALWAYS_INLINE uint64_t bvh_closest_runs(const bvh *b, const bvh_ray *q, double tmax,
-                                        void *ctx,
-                                        double (*leaf)(void *ctx, uint32_t at, double tmax),
-                                        double (*run)(void *ctx, uint32_t at, uint32_t count,
-                                                      double tmax),
-                                        unsigned (*test)(const bvh_node *, const bvh_ray *,
-                                                         double, double *))
+/* A pushed child of the closest-hit walk: its node and slot (a node to
+** visit, or a leaf), and its entry distance. */
+typedef struct {
+    uint32_t node, slot;
+    double   t;
+} bvh_entry;
+
+/* The children of nd the test met (mask m, entry distances t), nearest
+** first (equal distances in slot order): the farther pushed, farthest
+** deepest; returns the nearest's slot. One or two met, the usual case, go
+** without the sort. */
+ALWAYS_INLINE unsigned bvh_order(uint32_t ni, unsigned m, const double *t, bvh_entry *stack,
+                                 int *sp)
+{
+    unsigned c = (unsigned)__builtin_ctz(m), rest = m & (m - 1);
+    if (!rest)
+        return c;
+    if (!(rest & (rest - 1))) {
+        unsigned d = (unsigned)__builtin_ctz(rest);
+        unsigned far = t[d] < t[c] ? c : d;
+        stack[(*sp)++] = (bvh_entry){ni, far, t[far]};
+        return c ^ d ^ far;
+    }
+    bvh_entry e[BVH_WIDTH];
+    int h = 0;
+    while (m) {
+        unsigned k = (unsigned)__builtin_ctz(m);
+        m &= m - 1;
+        int j = h++;
+        while (j > 0 && e[j - 1].t > t[k]) {
+            e[j] = e[j - 1];
+            j--;
+        }
+        e[j] = (bvh_entry){ni, k, t[k]};
+    }
+    for (int j = h - 1; j > 0; j--)
+        stack[(*sp)++] = e[j];
+    return e[0].slot;
+}
+
+/* Closest hit: visits the leaves that may hold a hit nearer than tmax,
+** nearer children first, skipping one once a hit lies before it. Each
+** leaf goes to leaf (NULL: prim on each primitive). */
+ALWAYS_INLINE void bvh_walk_closest(const bvh *b, const bvh_ray *q, const double *ihi,
+                                    double tmax, void *ctx, bvh_box_test test,
+                                    bvh_prim_closest prim, bvh_leaf_closest leaf,
+                                    uint64_t *nodes)
 {
     if (!b->nnodes)
-        return 0;
+        return;
     uint64_t nn = 0;
     bvh_entry stack[BVH_STACK];
     int sp = 0;
@@ -370,134 +482,98 @@ ALWAYS_INLINE uint64_t bvh_closest_runs(const bvh *b, const bvh_ray *q, double t
     for (;;) {
         const bvh_node *nd = &b->nodes[ni];
         double t[BVH_WIDTH];
-        unsigned m = test(nd, q, tmax, t);
+        unsigned m = test(nd, q, ihi, tmax, t);
         nn += nd->n;
-        /* The children met, nearest first (equal distances in slot order),
-        ** the farther pushed farthest deepest; the nearest is taken now.
-        ** One or two met, the usual case, go without the sort. */
         if (m) {
-            unsigned c = (unsigned)__builtin_ctz(m), rest = m & (m - 1);
-            uint32_t child = nd->child[c], count = nd->count[c];
-            if (rest && !(rest & (rest - 1))) {
-                unsigned d = (unsigned)__builtin_ctz(rest);
-                unsigned far = t[d] < t[c] ? c : d, near = c ^ d ^ far;
-                stack[sp].child = nd->child[far];
-                stack[sp].count = nd->count[far];
-                stack[sp++].t = t[far];
-                child = nd->child[near];
-                count = nd->count[near];
-            } else if (rest) {
-                bvh_entry e[BVH_WIDTH];
-                int h = 0;
-                while (m) {
-                    unsigned k = (unsigned)__builtin_ctz(m);
-                    m &= m - 1;
-                    int j = h++;
-                    while (j > 0 && e[j - 1].t > t[k]) {
-                        e[j] = e[j - 1];
-                        j--;
-                    }
-                    e[j].child = nd->child[k];
-                    e[j].count = nd->count[k];
-                    e[j].t = t[k];
-                }
-                for (int j = h - 1; j > 0; j--)
-                    stack[sp++] = e[j];
-                child = e[0].child;
-                count = e[0].count;
-            }
-            if (count == 0) {
-                ni = child;
+            unsigned c = bvh_order(ni, m, t, stack, &sp);
+            if (nd->count[c] == 0) {
+                ni = nd->child[c];
                 continue;
             }
-            tmax = bvh_leaf_run(ctx, child, count, tmax, leaf, run);
+            tmax = bvh_closest_leaf(ctx, nd, c, tmax, prim, leaf);
         }
         for (;;) {
-            if (sp == 0)
-                return nn;
+            if (sp == 0) {
+                *nodes += nn;
+                return;
+            }
             const bvh_entry *p = &stack[--sp];
             if (p->t > tmax)
                 continue;
-            if (p->count == 0) {
-                ni = p->child;
+            const bvh_node *pn = &b->nodes[p->node];
+            if (pn->count[p->slot] == 0) {
+                ni = pn->child[p->slot];
                 break;
             }
-            tmax = bvh_leaf_run(ctx, p->child, p->count, tmax, leaf, run);
+            tmax = bvh_closest_leaf(ctx, pn, p->slot, tmax, prim, leaf);
         }
     }
 }
 
-
-ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
-                                   double (*leaf)(void *ctx, uint32_t at, double tmax),
-                                   unsigned (*test)(const bvh_node *, const bvh_ray *, double,
-                                                    double *))
+/* Leaf slot of nd in an any-hit walk: leaf, or prim on each primitive
+** until one blocks the ray. */
+ALWAYS_INLINE int bvh_any_leaf(void *ctx, const bvh_node *nd, unsigned slot, double *tmax,
+                               bvh_prim_any prim, bvh_leaf_any leaf)
 {
-    return bvh_closest_runs(b, q, tmax, ctx, leaf, NULL, test);
-}
-
-/* Any hit: leaf(ctx, at, tmax) returns nonzero when refs[at] blocks
-** the ray, which ends the search. Returns 1 if one did; *nodes counts the
-** box tests. Children are taken in slot order: any blocker will do. */
-/* Whether any of refs[at, at + count) blocks the ray, by leaf(), in order. */
-ALWAYS_INLINE int bvh_any_each(void *ctx, uint32_t at, uint32_t count, double tmax,
-                               int (*leaf)(void *ctx, uint32_t at, double tmax))
-{
+    if (leaf)
+        return leaf(ctx, nd, slot, tmax);
+    uint32_t at = nd->child[slot], count = nd->count[slot];
     for (uint32_t k = 0; k < count; k++)
-        if (leaf(ctx, at + k, tmax))
+        if (prim(ctx, at + k, *tmax))
             return 1;
     return 0;
 }
 
-/* bvh_any with run(ctx, at, count, tmax) testing a whole leaf (NULL:
-** leaf() on each). */
-ALWAYS_INLINE int bvh_any_runs(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
-                               int (*leaf)(void *ctx, uint32_t at, double tmax),
-                               int (*run)(void *ctx, uint32_t at, uint32_t count, double tmax),
-                               uint64_t *nodes,
-                               unsigned (*test)(const bvh_node *, const bvh_ray *, double,
-                                                double *))
+/* Any hit: children in slot order (any blocker will do), leaves as they
+** come, until leaf ends the walk; returns 1 if it did. */
+ALWAYS_INLINE int bvh_walk_any(const bvh *b, const bvh_ray *q, const double *ihi, double tmax,
+                               void *ctx, bvh_box_test test, bvh_prim_any prim,
+                               bvh_leaf_any leaf, uint64_t *nodes)
 {
     if (!b->nnodes)
         return 0;
-    bvh_entry stack[BVH_STACK];
+    uint32_t stack[BVH_STACK];
     int sp = 0;
     uint32_t ni = 0;
     for (;;) {
         const bvh_node *nd = &b->nodes[ni];
         double t[BVH_WIDTH];
-        unsigned m = test(nd, q, tmax, t);
+        unsigned m = test(nd, q, ihi, tmax, t);
         *nodes += nd->n;
         int descend = 0;
         while (m) {
             unsigned c = (unsigned)__builtin_ctz(m);
             m &= m - 1;
             if (nd->count[c]) {
-                if (run ? run(ctx, nd->child[c], nd->count[c], tmax)
-                        : bvh_any_each(ctx, nd->child[c], nd->count[c], tmax, leaf))
+                if (bvh_any_leaf(ctx, nd, c, &tmax, prim, leaf))
                     return 1;
             } else if (!descend) {
                 descend = 1;
                 ni = nd->child[c];
-            } else {
-                stack[sp].child = nd->child[c];
-                stack[sp++].count = 0;
-            }
+            } else
+                stack[sp++] = nd->child[c];
         }
         if (descend)
             continue;
         if (sp == 0)
             return 0;
-        ni = stack[--sp].child;
+        ni = stack[--sp];
     }
 }
 
-ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
-                          int (*leaf)(void *ctx, uint32_t at, double tmax), uint64_t *nodes,
-                          unsigned (*test)(const bvh_node *, const bvh_ray *, double,
-                                           double *))
+/* One ray, each primitive by prim: the closest walk returns its box tests. */
+ALWAYS_INLINE uint64_t bvh_closest(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
+                                   bvh_prim_closest prim, bvh_box_test test)
 {
-    return bvh_any_runs(b, q, tmax, ctx, leaf, NULL, nodes, test);
+    uint64_t nn = 0;
+    bvh_walk_closest(b, q, NULL, tmax, ctx, test, prim, NULL, &nn);
+    return nn;
+}
+
+ALWAYS_INLINE int bvh_any(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
+                          bvh_prim_any prim, uint64_t *nodes, bvh_box_test test)
+{
+    return bvh_walk_any(b, q, NULL, tmax, ctx, test, prim, NULL, nodes);
 }
 
 /* A hierarchy of one leaf (a scene of a few bounded shapes weighing at
@@ -509,44 +585,32 @@ static inline int bvh_lone_leaf(const bvh *b)
     return b->lone;
 }
 
-/* bvh_test_scalar's arithmetic for child c alone: 1 when the ray meets it
-** before tmax (the root's one child; a packet's leaf, for each of its rays). */
+/* Whether one ray meets child c of nd before tmax (the root's one child;
+** a packet's leaf, for each of its rays). */
 ALWAYS_INLINE int bvh_test_slot(const bvh_node *nd, unsigned c, const bvh_ray *q,
                                 double tmax)
 {
-    double t0 = 0, t1 = tmax;
-    for (int k = 0; k < 3; k++) {
-        double a = ((double)nd->lo[k][c] - q->o[k]) * q->inv[k];
-        double b = ((double)nd->hi[k][c] - q->o[k]) * q->inv[k];
-        double near = q->neg[k] ? b : a, far = (q->neg[k] ? a : b) * BVH_WIDEN;
-        t0 = near > t0 ? near : t0;
-        t1 = far < t1 ? far : t1;
-    }
-    return t0 * BVH_SHRINK <= t1;
+    double entry;
+    return bvh_slabs_child(nd, c, q, NULL, tmax, &entry);
 }
 
+/* The root's one leaf, for one ray: the box test of bvh_test_slot, then
+** prim on each primitive (the closest search returns its one box test). */
 ALWAYS_INLINE uint64_t bvh_closest_lone(const bvh *b, const bvh_ray *q, double tmax,
-                                        void *ctx,
-                                        double (*leaf)(void *ctx, uint32_t at, double tmax))
+                                        void *ctx, bvh_prim_closest prim)
 {
     const bvh_node *nd = &b->nodes[0];
     if (bvh_test_slot(nd, 0, q, tmax))
-        for (uint32_t k = 0; k < nd->count[0]; k++)
-            tmax = leaf(ctx, nd->child[0] + k, tmax);
+        bvh_closest_leaf(ctx, nd, 0, tmax, prim, NULL);
     return 1;
 }
 
 ALWAYS_INLINE int bvh_any_lone(const bvh *b, const bvh_ray *q, double tmax, void *ctx,
-                               int (*leaf)(void *ctx, uint32_t at, double tmax),
-                               uint64_t *nodes)
+                               bvh_prim_any prim, uint64_t *nodes)
 {
     const bvh_node *nd = &b->nodes[0];
     ++*nodes;
-    if (bvh_test_slot(nd, 0, q, tmax))
-        for (uint32_t k = 0; k < nd->count[0]; k++)
-            if (leaf(ctx, nd->child[0] + k, tmax))
-                return 1;
-    return 0;
+    return bvh_test_slot(nd, 0, q, tmax) && bvh_any_leaf(ctx, nd, 0, &tmax, prim, NULL);
 }
 
 /* Defines name_scalar, name_avx and name_avx512, the same function of
@@ -556,24 +620,21 @@ ALWAYS_INLINE int bvh_any_lone(const bvh *b, const bvh_ray *q, double tmax, void
 #define BVH_DISPATCH(type, name, params, args, ...)                           \
     static type name##_scalar params                                          \
     {                                                                         \
-        unsigned (*const BVH_TEST)(const bvh_node *, const bvh_ray *, double, \
-                                   double *) = bvh_test_scalar;               \
+        const bvh_box_test BVH_TEST = bvh_slabs_scalar;                       \
         const int BVH_LEVEL = BVH_SIMD_OFF;                                   \
         (void)BVH_LEVEL;                                                      \
         __VA_ARGS__                                                           \
     }                                                                         \
     BVH_AVX_TARGET static type name##_avx params                              \
     {                                                                         \
-        unsigned (*const BVH_TEST)(const bvh_node *, const bvh_ray *, double, \
-                                   double *) = bvh_test_avx;                  \
+        const bvh_box_test BVH_TEST = bvh_slabs_avx;                          \
         const int BVH_LEVEL = BVH_SIMD_AVX;                                   \
         (void)BVH_LEVEL;                                                      \
         __VA_ARGS__                                                           \
     }                                                                         \
     BVH_AVX512_TARGET static type name##_avx512 params                        \
     {                                                                         \
-        unsigned (*const BVH_TEST)(const bvh_node *, const bvh_ray *, double, \
-                                   double *) = bvh_test_avx512;               \
+        const bvh_box_test BVH_TEST = bvh_slabs_avx512;                       \
         const int BVH_LEVEL = BVH_SIMD_AVX512;                                \
         (void)BVH_LEVEL;                                                      \
         __VA_ARGS__                                                           \
