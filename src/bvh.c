@@ -209,163 +209,246 @@ static void measure(const builder *bd, size_t begin, size_t end, box3 *bounds, b
         grow_side(bounds, cb, &bd->items[i]);
 }
 
-/* Builds the subtree for items[begin, end) into node ni. Binned SAH: of the
-** BINS-1 planes across the widest centroid extent, the one minimising
-** area-weighted counts, unless a leaf is cheaper. Two passes over the items
-** per level: binning (which measures the bins), then partitioning. */
-static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bounds, box3 cb,
-                  int depth)
+/* The axis of cb's widest extent (the first of equal ones). */
+static int widest_axis(const box3 *cb)
 {
-    item *items = bd->items;
-    size_t n = end - begin;
-    if ((n >= 65536 || (bd->b->nnodes & 255) == 0) && stopped(bd))
-        return;
     int axis = 0;
     float ext[3];
     for (int k = 0; k < 3; k++)
-        ext[k] = cb.hi[k] - cb.lo[k];
+        ext[k] = cb->hi[k] - cb->lo[k];
     if (ext[1] > ext[axis]) axis = 1;
     if (ext[2] > ext[axis]) axis = 2;
+    return axis;
+}
 
-    /* A few items costing no more than MIN_LEAF unit tests are a leaf;
-    ** costlier ones (instances, curved placed shapes) are left to the SAH,
-    ** which parts them when a node test is cheaper. All items of cost 1
-    ** give the tree the counts alone gave. */
-    int leaf = depth >= BVH_MAX_DEPTH;
-    if (!leaf && n <= MIN_LEAF) {
-        float w = 0;
-        for (size_t i = begin; i < end; i++)
-            w += item_cost(bd, &items[i]);
-        leaf = w <= MIN_LEAF;
+/* A few items costing no more than MIN_LEAF unit tests are a leaf;
+** costlier ones (instances, curved placed shapes) are left to the SAH,
+** which parts them when a node test is cheaper. All items of cost 1 give
+** the tree the counts alone gave. */
+static int cheap_leaf(const builder *bd, size_t begin, size_t end)
+{
+    if (end - begin > MIN_LEAF)
+        return 0;
+    float w = 0;
+    for (size_t i = begin; i < end; i++)
+        w += item_cost(bd, &bd->items[i]);
+    return w <= MIN_LEAF;
+}
+
+/* Items binned along one axis by their centroids (bin_of's lo and scale):
+** each bin's count and weight by cost (double: sums of 1 stay exact
+** counts, so unit costs give the planes counts gave), and its bounds and
+** centroid bounds: a side's are its bins', merged (min and max are exact
+** in any order), so partitioning need not measure the sides again. */
+typedef struct {
+    int    axis;
+    float  lo, scale;
+    size_t count[BINS];
+    double weight[BINS];
+    box3   bin[BINS], cbin[BINS];
+} binning;
+
+static void bin_items(const builder *bd, size_t begin, size_t end, binning *bn)
+{
+    const item *items = bd->items;
+    for (int i = 0; i < BINS; i++) {
+        bn->count[i] = 0;
+        bn->weight[i] = 0;
+        box_empty(&bn->bin[i]);
+        box_empty(&bn->cbin[i]);
     }
-    size_t mid = begin;
-    box3 lb, rb, lcb, rcb;
-    int measured = 0;
-    if (!leaf && ext[axis] > 0) {
-        float scale = BINS / ext[axis];
-        /* Bins weigh their items by cost (double: sums of 1 stay exact
-        ** counts, so unit costs give the planes counts gave). */
-        size_t count[BINS] = {0};
-        double weight[BINS] = {0};
-        /* Each bin's bounds and centroid bounds: a side's are its bins',
-        ** merged (min and max are exact in any order), so partitioning
-        ** need not measure the sides again. */
-        box3 bin[BINS], cbin[BINS];
-        for (int i = 0; i < BINS; i++) {
-            box_empty(&bin[i]);
-            box_empty(&cbin[i]);
+    if (bd->cost) {
+        for (size_t i = begin; i < end; i++) {
+            int bi = bin_of(&items[i], bn->axis, bn->lo, bn->scale);
+            bn->count[bi]++;
+            bn->weight[bi] += item_cost(bd, &items[i]);
+            grow_side(&bn->bin[bi], &bn->cbin[bi], &items[i]);
         }
-        if (bd->cost) {
-            for (size_t i = begin; i < end; i++) {
-                int bi = bin_of(&items[i], axis, cb.lo[axis], scale);
-                count[bi]++;
-                weight[bi] += item_cost(bd, &items[i]);
-                grow_side(&bin[bi], &cbin[bi], &items[i]);
-            }
-        } else {           /* all of cost 1: the weights are the counts */
-            for (size_t i = begin; i < end; i++) {
-                int bi = bin_of(&items[i], axis, cb.lo[axis], scale);
-                count[bi]++;
-                grow_side(&bin[bi], &cbin[bi], &items[i]);
-            }
-            for (int i = 0; i < BINS; i++)
-                weight[i] = (double)count[i];
+    } else {           /* all of cost 1: the weights are the counts */
+        for (size_t i = begin; i < end; i++) {
+            int bi = bin_of(&items[i], bn->axis, bn->lo, bn->scale);
+            bn->count[bi]++;
+            grow_side(&bn->bin[bi], &bn->cbin[bi], &items[i]);
         }
-        float rarea[BINS];
-        double rweight[BINS], w = 0;
-        size_t rcount[BINS], cnt = 0;
-        box3 acc;
-        box_empty(&acc);
-        for (int i = BINS - 1; i > 0; i--) {
-            box_merge(&acc, &bin[i]);
-            cnt += count[i];
-            w += weight[i];
-            rarea[i] = box_area(&acc);
-            rcount[i] = cnt;
-            rweight[i] = w;
-        }
-        double total = w + weight[0];
-        box_empty(&acc);
-        cnt = 0;
-        w = 0;
-        float best = INFINITY;
-        int split = -1;
-        for (int i = 0; i < BINS - 1; i++) {
-            box_merge(&acc, &bin[i]);
-            cnt += count[i];
-            w += weight[i];
-            if (cnt == 0 || rcount[i + 1] == 0)
-                continue;
-            float c = box_area(&acc) * (float)w + rarea[i + 1] * (float)rweight[i + 1];
-            if (c < best) {
-                best = c;
-                split = i;
-            }
-        }
-        float area = box_area(&bounds);
-        float cost = area > 0 ? TRAVERSAL_COST + best / area : INFINITY;
-        if (split >= 0 && !(cost >= (float)total && n <= MAX_LEAF)) {
-            box_empty(&lb);
-            box_empty(&rb);
-            box_empty(&lcb);
-            box_empty(&rcb);
-            for (int k = 0; k < BINS; k++) {
-                box_merge(k <= split ? &lb : &rb, &bin[k]);
-                box_merge(k <= split ? &lcb : &rcb, &cbin[k]);
-            }
-            /* Hoare's scheme: from both ends, swapping only pairs that are
-            ** both misplaced. Swapping each right item with the last one,
-            ** then reading the slot just written, stalled on store
-            ** forwarding: half of building B2's 1M spheres, whose order is
-            ** random. The sides are the same sets either way. */
-            size_t i = begin, j = end;
-            for (;;) {
-                while (i < j && bin_of(&items[i], axis, cb.lo[axis], scale) <= split)
-                    i++;
-                while (i < j && bin_of(&items[j - 1], axis, cb.lo[axis], scale) > split)
-                    j--;
-                if (i == j)
-                    break;
-                item t = items[i];             /* items[i] goes right, items[j - 1] left */
-                items[i] = items[j - 1];
-                items[j - 1] = t;
-                i++;
-                j--;
-            }
-            mid = i;
-            measured = 1;
-        } else if (n <= MAX_LEAF) {
-            leaf = 1;
-        }
-    } else if (!leaf && n <= MAX_LEAF) {
-        leaf = 1;            /* all centroids coincide: nothing to gain */
+        for (int i = 0; i < BINS; i++)
+            bn->weight[i] = (double)bn->count[i];
     }
-    if (leaf && n <= 0xffff) {
-        make_leaf(bd, ni, begin, n, &bounds);
-        return;
+}
+
+/* The SAH's best of the BINS-1 planes between bins: the last bin of its
+** left side (-1: none parts the items), its area-weighted cost in *best,
+** the weight of all the items in *total. */
+static int best_plane(const binning *bn, float *best, double *total)
+{
+    float rarea[BINS];
+    double rweight[BINS], w = 0;
+    size_t rcount[BINS], cnt = 0;
+    box3 acc;
+    box_empty(&acc);
+    for (int i = BINS - 1; i > 0; i--) {
+        box_merge(&acc, &bn->bin[i]);
+        cnt += bn->count[i];
+        w += bn->weight[i];
+        rarea[i] = box_area(&acc);
+        rcount[i] = cnt;
+        rweight[i] = w;
     }
+    *total = w + bn->weight[0];
+    box_empty(&acc);
+    cnt = 0;
+    w = 0;
+    *best = INFINITY;
+    int split = -1;
+    for (int i = 0; i < BINS - 1; i++) {
+        box_merge(&acc, &bn->bin[i]);
+        cnt += bn->count[i];
+        w += bn->weight[i];
+        if (cnt == 0 || rcount[i + 1] == 0)
+            continue;
+        float c = box_area(&acc) * (float)w + rarea[i + 1] * (float)rweight[i + 1];
+        if (c < *best) {
+            *best = c;
+            split = i;
+        }
+    }
+    return split;
+}
+
+/* The two sides of a split: their bounds and centroid bounds. */
+typedef struct {
+    box3 bounds[2], cb[2];
+} sides;
+
+static void sides_of_bins(const binning *bn, int split, sides *sd)
+{
+    for (int k = 0; k < 2; k++) {
+        box_empty(&sd->bounds[k]);
+        box_empty(&sd->cb[k]);
+    }
+    for (int k = 0; k < BINS; k++) {
+        box_merge(&sd->bounds[k > split], &bn->bin[k]);
+        box_merge(&sd->cb[k > split], &bn->cbin[k]);
+    }
+}
+
+/* Items[begin, end) with their bins up to split first; returns where the
+** others begin. Hoare's scheme: from both ends, swapping only pairs that
+** are both misplaced. Swapping each right item with the last one, then
+** reading the slot just written, stalled on store forwarding: half of
+** building B2's 1M spheres, whose order is random. The sides are the
+** same sets either way. */
+static size_t partition(item *items, size_t begin, size_t end, const binning *bn, int split)
+{
+    size_t i = begin, j = end;
+    for (;;) {
+        while (i < j && bin_of(&items[i], bn->axis, bn->lo, bn->scale) <= split)
+            i++;
+        while (i < j && bin_of(&items[j - 1], bn->axis, bn->lo, bn->scale) > split)
+            j--;
+        if (i == j)
+            break;
+        item t = items[i];             /* items[i] goes right, items[j - 1] left */
+        items[i] = items[j - 1];
+        items[j - 1] = t;
+        i++;
+        j--;
+    }
+    return i;
+}
+
+/* How a node splits its items: at mid, with the sides' bounds (measured
+** when the binning gave them). */
+typedef struct {
+    int    leaf, measured;
+    size_t mid;
+    sides  sd;
+} plan;
+
+/* Binned SAH along the widest centroid axis (extent ext > 0): of the
+** BINS-1 planes, the one minimising area-weighted counts, unless a leaf
+** is cheaper. */
+static void plan_split(builder *bd, size_t begin, size_t end, const box3 *bounds,
+                       const box3 *cb, int axis, plan *pl)
+{
+    size_t n = end - begin;
+    float ext = cb->hi[axis] - cb->lo[axis];
+    binning bn;
+    bn.axis = axis;
+    bn.lo = cb->lo[axis];
+    bn.scale = BINS / ext;
+    bin_items(bd, begin, end, &bn);
+    float best;
+    double total;
+    int split = best_plane(&bn, &best, &total);
+    float area = box_area(bounds);
+    float cost = area > 0 ? TRAVERSAL_COST + best / area : INFINITY;
+    if (split >= 0 && !(cost >= (float)total && n <= MAX_LEAF)) {
+        sides_of_bins(&bn, split, &pl->sd);
+        pl->mid = partition(bd->items, begin, end, &bn, split);
+        pl->measured = 1;
+    } else if (n <= MAX_LEAF) {
+        pl->leaf = 1;
+    }
+}
+
+static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bounds, box3 cb,
+                  int depth);
+
+/* Node ni as the interior node over items[begin, end) split at pl's mid:
+** its two subtrees built, the first beside it. */
+static void build_interior(builder *bd, uint32_t ni, size_t begin, size_t end,
+                           const box3 *bounds, int axis, plan *pl, int depth)
+{
+    size_t mid = pl->mid;
     if (mid == begin || mid == end) {   /* no useful plane: halve by index */
-        mid = begin + n / 2;
-        measured = 0;
+        mid = begin + (end - begin) / 2;
+        pl->measured = 0;
     }
-    if (!measured) {
-        measure(bd, begin, mid, &lb, &lcb);
-        measure(bd, mid, end, &rb, &rcb);
+    if (!pl->measured) {
+        measure(bd, begin, mid, &pl->sd.bounds[0], &pl->sd.cb[0]);
+        measure(bd, mid, end, &pl->sd.bounds[1], &pl->sd.cb[1]);
     }
     uint32_t left = new_node(bd);
     if (bd->failed)
         return;
-    build(bd, left, begin, mid, lb, lcb, depth + 1);
+    build(bd, left, begin, mid, pl->sd.bounds[0], pl->sd.cb[0], depth + 1);
     uint32_t right = new_node(bd);
     if (bd->failed)
         return;
-    build(bd, right, mid, end, rb, rcb, depth + 1);
+    build(bd, right, mid, end, pl->sd.bounds[1], pl->sd.cb[1], depth + 1);
     bvh2_node *node = &bd->b->nodes[ni];   /* the array may have moved */
-    memcpy(node->lo, bounds.lo, sizeof node->lo);
-    memcpy(node->hi, bounds.hi, sizeof node->hi);
+    memcpy(node->lo, bounds->lo, sizeof node->lo);
+    memcpy(node->hi, bounds->hi, sizeof node->hi);
     node->start = right;
     node->count = 0;
     node->axis = (uint16_t)axis;
+}
+
+/* Builds the subtree for items[begin, end) into node ni: a leaf, or split
+** as plan_split says (two passes over the items per level: binning, which
+** measures the bins, then partitioning). */
+static void build(builder *bd, uint32_t ni, size_t begin, size_t end, box3 bounds, box3 cb,
+                  int depth)
+{
+    size_t n = end - begin;
+    if ((n >= 65536 || (bd->b->nnodes & 255) == 0) && stopped(bd))
+        return;
+    int axis = widest_axis(&cb);
+    plan pl;                /* pl.sd: set where pl.measured is, or measured later */
+    pl.leaf = depth >= BVH_MAX_DEPTH;
+    pl.measured = 0;
+    pl.mid = begin;
+    if (!pl.leaf)
+        pl.leaf = cheap_leaf(bd, begin, end);
+    if (!pl.leaf && cb.hi[axis] - cb.lo[axis] > 0)
+        plan_split(bd, begin, end, &bounds, &cb, axis, &pl);
+    else if (!pl.leaf && n <= MAX_LEAF)
+        pl.leaf = 1;         /* all centroids coincide: nothing to gain */
+    if (pl.leaf && n <= 0xffff) {
+        make_leaf(bd, ni, begin, n, &bounds);
+        return;
+    }
+    build_interior(bd, ni, begin, end, &bounds, axis, &pl, depth);
 }
 
 /* The top split's second half is built on its own thread into its own node
@@ -453,6 +536,136 @@ lc_status bvh_build(bvh *out, bvh_item *items, size_t n, sig_atomic_t interrupts
     return bvh_build_costed(out, items, n, NULL, interrupts_seen, err);
 }
 
+/* Quickselect on the centroids along axis: items[0, mid) then lie at or
+** below items[mid, n), so the halves split space, not order. Stops early
+** when the build is cancelled. */
+static void select_median(builder *bd, size_t n, size_t mid, int axis)
+{
+    item *items = bd->items;
+    size_t lo = 0, hi = n;
+    while (hi - lo > 1 && !stopped(bd)) {
+        float pivot = centroid(&items[lo + (hi - lo) / 2], axis);
+        size_t i = lo, j = hi;
+        while (i < j) {
+            if (centroid(&items[i], axis) < pivot) {
+                i++;
+            } else {
+                item t = items[i];
+                items[i] = items[--j];
+                items[j] = t;
+            }
+        }
+        size_t eq = i;          /* [lo, i) < pivot; gather == pivot next */
+        for (size_t k = i; k < hi; k++)
+            if (centroid(&items[k], axis) == pivot) {
+                item t = items[k];
+                items[k] = items[eq];
+                items[eq++] = t;
+            }
+        if (mid < i) hi = i;
+        else if (mid >= eq) lo = eq;
+        else break;
+    }
+}
+
+/* Appends the right half's nodes rb to the tree (its interior nodes point
+** within it) and makes the root the interior node over both halves; 0
+** when out of memory. */
+static int append_half(tree2 *b, const tree2 *rb, const box3 *all, int axis)
+{
+    size_t off = b->nnodes;
+    bvh2_node *p = mem_realloc(b->nodes, (off + rb->nnodes) * sizeof *p);
+    if (!p)
+        return 0;
+    b->nodes = p;
+    for (size_t i = 0; i < rb->nnodes; i++) {
+        p[off + i] = rb->nodes[i];
+        if (p[off + i].count == 0)
+            p[off + i].start += (uint32_t)off;
+    }
+    b->nnodes += rb->nnodes;
+    bvh2_node *root = &b->nodes[0];
+    memcpy(root->lo, all->lo, sizeof root->lo);
+    memcpy(root->hi, all->hi, sizeof root->hi);
+    root->start = (uint32_t)off;
+    root->count = 0;
+    root->axis = (uint16_t)axis;
+    return 1;
+}
+
+/* The root split as build() would, by the median of the widest centroid
+** axis, each half handed to a thread; failures into bd. */
+static void build_halves(builder *bd, size_t n, const box3 *all, const box3 *cb)
+{
+    int axis = widest_axis(cb);
+    size_t mid = n / 2;
+    select_median(bd, n, mid, axis);
+    box3 lb, lcb;
+    job right;
+    memset(&right, 0, sizeof right);
+    tree2 rb;
+    memset(&rb, 0, sizeof rb);
+    right.bd.b = &rb;
+    right.bd.cap = (n - mid) / 3 + 64;
+    right.bd.items = bd->items;
+    right.bd.seen = bd->seen;
+    right.bd.cost = bd->cost;
+    right.begin = mid;
+    right.end = n;
+    if (stopped(bd))
+        right.bd.failed = right.bd.cancelled = 1;   /* neither half is built */
+    rb.nodes = right.bd.failed ? NULL : mem_alloc(right.bd.cap * sizeof *rb.nodes);
+    pthread_t th;
+    int threaded = rb.nodes && pthread_create(&th, NULL, build_job, &right) == 0;
+    if (rb.nodes && !threaded)
+        build_job(&right);
+    measure(bd, 0, mid, &lb, &lcb);
+    uint32_t left = new_node(bd);
+    if (!bd->failed)
+        build(bd, left, 0, mid, lb, lcb, 1);
+    if (threaded)
+        pthread_join(th, NULL);
+    if (!rb.nodes || right.bd.failed) {
+        bd->failed = 1;
+        bd->cancelled |= right.bd.cancelled;
+    } else if (!append_half(bd->b, &rb, all, axis)) {
+        bd->failed = 1;
+    }
+    mem_free(rb.nodes);
+}
+
+static lc_status build_failed(lc_error *err, int cancelled, size_t n)
+{
+    if (cancelled)
+        return error_fail(err, LC_ECANCEL, NULL, "render cancelled");
+    return error_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
+                      "primitives", n);
+}
+
+/* The built tree made the wide one in *out: the items' order is the
+** leaves' order, of which refs keep only the ids, in place. */
+static lc_status finish(bvh *out, tree2 *b, item *items, size_t n, lc_error *err)
+{
+    uint32_t *refs = (uint32_t *)(void *)items;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t id = items[i].id;
+        refs[i] = id;
+    }
+    uint32_t *fit = mem_realloc(refs, n * sizeof *fit);
+    out->refs = fit ? fit : refs;
+    out->nrefs = n;
+    bvh2_node *bfit = mem_realloc(b->nodes, b->nnodes * sizeof *bfit);
+    if (bfit)                 /* the slack returned before the wide nodes come */
+        b->nodes = bfit;
+    lc_status st = bvh_collapse(out, b->nodes, b->nnodes);
+    mem_free(b->nodes);
+    if (st) {
+        bvh_free(out);
+        return build_failed(err, 0, n);
+    }
+    return LC_OK;
+}
+
 lc_status bvh_build_costed(bvh *out, bvh_item *items, size_t n, const float *cost,
                            sig_atomic_t interrupts_seen, lc_error *err)
 {
@@ -472,125 +685,19 @@ lc_status bvh_build_costed(bvh *out, bvh_item *items, size_t n, const float *cos
     b->nodes = mem_alloc(bd.cap * sizeof *b->nodes);
     if (!b->nodes) {
         mem_free(items);
-        return error_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
-                       "primitives", n);
+        return build_failed(err, 0, n);
     }
     b->nnodes = 1;
-    if (n < PARALLEL_MIN) {
+    if (n < PARALLEL_MIN)
         build(&bd, 0, 0, n, all, cb, 0);
-    } else {
-        /* Split the root as build() would, by the median of the widest
-        ** centroid axis, then hand each half to a thread. */
-        int axis = 0;
-        for (int k = 1; k < 3; k++)
-            if (cb.hi[k] - cb.lo[k] > cb.hi[axis] - cb.lo[axis])
-                axis = k;
-        size_t mid = n / 2;
-        /* quickselect on the centroid so the halves split space, not order */
-        size_t lo = 0, hi = n;
-        while (hi - lo > 1 && !stopped(&bd)) {
-            float pivot = centroid(&items[lo + (hi - lo) / 2], axis);
-            size_t i = lo, j = hi;
-            while (i < j) {
-                if (centroid(&items[i], axis) < pivot) {
-                    i++;
-                } else {
-                    item t = items[i];
-                    items[i] = items[--j];
-                    items[j] = t;
-                }
-            }
-            size_t eq = i;          /* [lo, i) < pivot; gather == pivot next */
-            for (size_t k = i; k < hi; k++)
-                if (centroid(&items[k], axis) == pivot) {
-                    item t = items[k];
-                    items[k] = items[eq];
-                    items[eq++] = t;
-                }
-            if (mid < i) hi = i;
-            else if (mid >= eq) lo = eq;
-            else break;
-        }
-        box3 lb, lcb;
-        job right;
-        memset(&right, 0, sizeof right);
-        tree2 rb;
-        memset(&rb, 0, sizeof rb);
-        right.bd.b = &rb;
-        right.bd.cap = (n - mid) / 3 + 64;
-        right.bd.items = items;
-        right.bd.seen = interrupts_seen;
-        right.bd.cost = cost;
-        right.begin = mid;
-        right.end = n;
-        if (stopped(&bd))
-            right.bd.failed = right.bd.cancelled = 1;   /* neither half is built */
-        rb.nodes = right.bd.failed ? NULL : mem_alloc(right.bd.cap * sizeof *rb.nodes);
-        pthread_t th;
-        int threaded = rb.nodes && pthread_create(&th, NULL, build_job, &right) == 0;
-        if (rb.nodes && !threaded)
-            build_job(&right);
-        measure(&bd, 0, mid, &lb, &lcb);
-        uint32_t left = new_node(&bd);
-        if (!bd.failed)
-            build(&bd, left, 0, mid, lb, lcb, 1);
-        if (threaded)
-            pthread_join(th, NULL);
-        if (!rb.nodes || right.bd.failed) {
-            bd.failed = 1;
-            bd.cancelled |= right.bd.cancelled;
-        } else {
-            /* Append the right half; its interior nodes point within it. */
-            size_t off = b->nnodes;
-            bvh2_node *p = mem_realloc(b->nodes, (off + rb.nnodes) * sizeof *p);
-            if (!p) {
-                bd.failed = 1;
-            } else {
-                b->nodes = p;
-                for (size_t i = 0; i < rb.nnodes; i++) {
-                    p[off + i] = rb.nodes[i];
-                    if (p[off + i].count == 0)
-                        p[off + i].start += (uint32_t)off;
-                }
-                b->nnodes += rb.nnodes;
-                bvh2_node *root = &b->nodes[0];
-                memcpy(root->lo, all.lo, sizeof root->lo);
-                memcpy(root->hi, all.hi, sizeof root->hi);
-                root->start = (uint32_t)off;
-                root->count = 0;
-                root->axis = (uint16_t)axis;
-            }
-        }
-        mem_free(rb.nodes);
-    }
+    else
+        build_halves(&bd, n, &all, &cb);
     if (bd.failed || stopped(&bd)) {
         mem_free(items);
         mem_free(b->nodes);
-        if (bd.cancelled)
-            return error_fail(err, LC_ECANCEL, NULL, "render cancelled");
-        return error_fail(err, LC_ENOMEM, NULL, "out of memory building a BVH over %zu "
-                       "primitives", n);
+        return build_failed(err, bd.cancelled, n);
     }
-    /* The items' order is the leaves' order; keep only the ids, in place. */
-    uint32_t *refs = (uint32_t *)(void *)items;
-    for (size_t i = 0; i < n; i++) {
-        uint32_t id = items[i].id;
-        refs[i] = id;
-    }
-    uint32_t *fit = mem_realloc(refs, n * sizeof *fit);
-    out->refs = fit ? fit : refs;
-    out->nrefs = n;
-    bvh2_node *bfit = mem_realloc(b->nodes, b->nnodes * sizeof *bfit);
-    if (bfit)                 /* the slack returned before the wide nodes come */
-        b->nodes = bfit;
-    lc_status st = bvh_collapse(out, b->nodes, b->nnodes);
-    mem_free(b->nodes);
-    if (st) {
-        bvh_free(out);
-        return error_fail(err, st, NULL, "out of memory building a BVH over %zu "
-                          "primitives", n);
-    }
-    return LC_OK;
+    return finish(out, b, items, n, err);
 }
 
 void bvh_free(bvh *b)
