@@ -137,8 +137,10 @@ static void put_hit(const lc_scene *s, const lc_ray *q, double len, const hit *h
     out->material = h->material;
 }
 
-static lc_status intersect_rays(lc_scene *s, const lc_ray *rays, size_t n,
-                                  lc_ray_hit *hits, lc_error *err)
+/* The rays cast in blocks of BVH_PACKET: for their nearest hits into hits,
+** or (hits NULL) for whether anything blocks them into blocked. */
+static lc_status cast_rays(lc_scene *s, const lc_ray *rays, size_t n, lc_ray_hit *hits,
+                           unsigned char *blocked, lc_error *err)
 {
     sig_atomic_t seen = interrupt_count();
     if (begin(s, rays, n, seen, err))
@@ -151,6 +153,12 @@ static lc_status intersect_rays(lc_scene *s, const lc_ray *rays, size_t n,
         hit h[BVH_PACKET];
         int found[BVH_PACKET];
         int m = cast_block(rays + i, n - i, r, tmax, len);
+        if (!hits) {
+            intersect_occluded_n(s, r, tmax, m, found);
+            for (int j = 0; j < m; j++)
+                blocked[i + (size_t)j] = (unsigned char)found[j];
+            continue;
+        }
         intersect_closest_n(s, r, tmax, m, h, found);
         for (int j = 0; j < m; j++)
             put_hit(s, &rays[i + (size_t)j], len[j], found[j] ? &h[j] : NULL,
@@ -160,35 +168,14 @@ static lc_status intersect_rays(lc_scene *s, const lc_ray *rays, size_t n,
     return LC_OK;
 }
 
-static lc_status occluded_rays(lc_scene *s, const lc_ray *rays, size_t n,
-                                 unsigned char *blocked, lc_error *err)
-{
-    sig_atomic_t seen = interrupt_count();
-    if (begin(s, rays, n, seen, err))
-        return err ? err->code : LC_EARG;
-    for (size_t i = 0; i < n; i += BVH_PACKET) {
-        if (i % POLL == POLL - BVH_PACKET && interrupt_count() != seen)
-            return error_fail(err, LC_ECANCEL, NULL, "interrupted after %zu of %zu rays", i, n);
-        ray r[BVH_PACKET];
-        double tmax[BVH_PACKET], len[BVH_PACKET];
-        int found[BVH_PACKET];
-        int m = cast_block(rays + i, n - i, r, tmax, len);
-        intersect_occluded_n(s, r, tmax, m, found);
-        for (int j = 0; j < m; j++)
-            blocked[i + (size_t)j] = (unsigned char)found[j];
-    }
-    error_ok(err);
-    return LC_OK;
-}
-
 lc_status lc_scene_intersect(lc_scene *s, const lc_ray *rays, size_t n, lc_ray_hit *hits,
                              lc_error *err)
 {
-    return intersect_rays(s, rays, n, hits, err);
+    return cast_rays(s, rays, n, hits, NULL, err);
 }
 
 lc_status lc_scene_occluded(lc_scene *s, const lc_ray *rays, size_t n,
                             unsigned char *blocked, lc_error *err)
 {
-    return occluded_rays(s, rays, n, blocked, err);
+    return cast_rays(s, rays, n, NULL, blocked, err);
 }
