@@ -392,10 +392,11 @@ int  bvh_simd_set(int level);
 ** scene and for every mesh instance. They take their box test and their
 ** leaf tests as functions, called with constants: once a walk is inlined
 ** into its one caller, so are they. The callers come in threes, one built
-** for each box test (BVH_DISPATCH, below). A leaf is named by its node
-** and slot: refs[nd->child[slot], + nd->count[slot]), its box the slot's
-** (a packet tests its rays on it one by one). Both walks count their box
-** tests into *nodes. */
+** for each box test (BVH_DISPATCH, below). A walk is a packet's when ihi
+** is not NULL. A leaf is named by its node and slot: refs[at, at + count)
+** for at = nd->child[slot] and count = nd->count[slot], its box the
+** slot's (a packet tests its rays on it one by one). Both walks count
+** their box tests into *nodes. */
 
 /* The per-primitive form of a leaf test (the position at lets a caller
 ** keep data in leaf order beside refs): a closest-hit search's returns
