@@ -53,7 +53,7 @@ WARN    := -Wall -Wextra -Wshadow -Wundef -Wwrite-strings -Wstrict-prototypes \
 # below keep IEEE arithmetic (no fused multiply-add, no fast-math).
 CFLAGS  ?= -O3 -g
 CFLAGS  += -std=c99 $(WARN) -ffp-contract=off -fPIC -pthread -D_POSIX_C_SOURCE=200809L
-CPPFLAGS += -MMD -MP
+CPPFLAGS += -MMD -MP -Isrc
 ifeq ($(SAN),1)
 # -fno-sanitize-recover: undefined behaviour stops the program, as an ASan
 # report does, so no report scrolls past a test that goes on passing.
@@ -78,13 +78,13 @@ LUA_CFLAGS := $(shell pkg-config --cflags lua5.4 2>/dev/null)
 LUA_LIBS   := $(shell pkg-config --libs lua5.4 2>/dev/null)
 PNG_CFLAGS := $(shell pkg-config --cflags libpng 2>/dev/null)
 PNG_LIBS   := $(shell pkg-config --libs libpng 2>/dev/null)
-# OpenEXR through its C library alone (OpenEXRCore, src/exr.c): OpenEXR.pc's
+# OpenEXR through its C library alone (OpenEXRCore, src/image/exr.c): OpenEXR.pc's
 # --libs would also pull in the C++ libraries, and its --cflags need Imath.
 EXR_CFLAGS := $(addprefix -I,$(shell pkg-config --variable=OpenEXR_includedir OpenEXR 2>/dev/null))
 EXR_LIBS   := $(shell pkg-config --exists OpenEXR 2>/dev/null && echo \
                 -L$$(pkg-config --variable=libdir OpenEXR) \
                 -lOpenEXRCore$$(pkg-config --variable=libsuffix OpenEXR))
-# stb_image (Debian's libstb-dev) reads Radiance .hdr skies (src/hdr.c).
+# stb_image (Debian's libstb-dev) reads Radiance .hdr skies (src/image/hdr.c).
 STB_CFLAGS := $(shell pkg-config --cflags stb 2>/dev/null)
 STB_LIBS   := $(shell pkg-config --libs stb 2>/dev/null)
 EDIT_CFLAGS := $(shell pkg-config --cflags libedit 2>/dev/null)
@@ -92,19 +92,21 @@ EDIT_LIBS   := $(shell pkg-config --libs libedit 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
 ZLIB_LIBS   := $(shell pkg-config --libs zlib 2>/dev/null)
 
+# The C core's folders, in the order they may depend on each other (README.md,
+# "Where things are"; tests/lua/test_folders.lua checks every include).
+CORE_DIRS := base image texture accel shapes scene import material media tracer light render
 # Lua-free helpers the binding and the command share but the core must not
 # have (the core never prints): linked into the module and lancer only.
-HELPER_SRC := src/progress_bar.c
+HELPER_SRC := src/lua/progress_bar.c
 # The C core: no Lua header in any of these.
-CORE_SRC := $(filter-out src/lua_%.c src/main.c src/main_%.c src/shade_minimal.c \
-                         $(HELPER_SRC),$(wildcard src/*.c))
-# The lancer command: main.c, main_*.c.
-HOST_OBJ := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(wildcard src/main*.c))
+CORE_SRC := $(filter-out src/render/shade_minimal.c,$(foreach d,$(CORE_DIRS),$(wildcard src/$(d)/*.c)))
+# The lancer command: src/cli/.
+HOST_OBJ := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(wildcard src/cli/*.c))
 ifeq ($(MINIMAL),1)
-CORE_SRC := $(filter-out src/shade.c,$(CORE_SRC)) src/shade_minimal.c
+CORE_SRC := $(filter-out src/render/shade.c,$(CORE_SRC)) src/render/shade_minimal.c
 endif
 CORE_OBJ := $(CORE_SRC:src/%.c=$(BUILD)/obj/%.o)
-LUA_SRC  := $(wildcard src/lua_*.c)
+LUA_SRC  := $(filter-out $(HELPER_SRC),$(wildcard src/lua/*.c))
 LUA_OBJ  := $(LUA_SRC:src/%.c=$(BUILD)/obj/%.o)
 HELPER_OBJ := $(HELPER_SRC:src/%.c=$(BUILD)/obj/%.o)
 LUA_FILES := $(wildcard lua/lancer/*.lua)
@@ -136,7 +138,7 @@ $(BUILD)/obj/%.o: src/%.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) $(EXR_CFLAGS) $(STB_CFLAGS) -c $< -o $@
 
-$(BUILD)/obj/lua_%.o: src/lua_%.c
+$(BUILD)/obj/lua/%.o: src/lua/%.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(LUA_CFLAGS) -c $< -o $@
 
@@ -296,5 +298,5 @@ $(BUILD)/bin/lc-runstat: tools/runstat.c
 clean:
 	rm -rf $(BUILD) tests/out
 
--include $(CORE_OBJ:.o=.d) $(LUA_OBJ:.o=.d) $(HELPER_OBJ:.o=.d) $(BUILD)/obj/main.d $(C_TESTS:=.d)
+-include $(CORE_OBJ:.o=.d) $(LUA_OBJ:.o=.d) $(HELPER_OBJ:.o=.d) $(HOST_OBJ:.o=.d) $(C_TESTS:=.d)
 -include $(FUZZERS:%=$(BUILD)/fuzz_%.d)

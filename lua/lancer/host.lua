@@ -1,7 +1,7 @@
 -- lancer.host: the lancer command's policy, kept out of the binding. The
 -- command calls setup(options) once with its parsed command line, which
 -- installs M.hook as the host hook (lancer.set_host_hook, see
--- src/lua_hook.c); after the script it calls finish() for its exit status.
+-- src/lua/lua_hook.c); after the script it calls finish() for its exit status.
 -- The hook:
 --   * renders and explains at --width, --height, --samples, --seed, --threads;
 --   * renders only the rows of --tile K/N or the pixels of --region, and
@@ -20,7 +20,7 @@
 -- Stock lua5.4 never loads this module: require "lancer" sets no hook.
 local lancer = require "lancer"
 local anim = require "lancer.anim"
--- Taken now: under --sandbox (src/main_sandbox.c), the scene's require loads
+-- Taken now: under --sandbox (src/cli/main_sandbox.c), the scene's require loads
 -- lancer's modules only and its os.exit is refused; the host's are these.
 local require, exit = require, os.exit
 
@@ -140,7 +140,7 @@ local function outside_animation(method)
   end
 end
 
--- The host hook (src/lua_hook.c): method is "render", "explain" or "save";
+-- The host hook (src/lua/lua_hook.c): method is "render", "explain" or "save";
 -- what is the options table, or save's path.
 function M.hook(method, plain, self, what, ...)
   local o = M.options

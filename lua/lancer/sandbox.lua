@@ -2,7 +2,7 @@
 -- a process of its own. From Lua that is the way to give a scene its own
 -- memory cap and clock and keep it off the caller's state: a Lua state
 -- cannot be sandboxed from inside itself (its string metatable, its
--- allocator and its clock are shared). The sandbox is src/main_sandbox.c;
+-- allocator and its clock are shared). The sandbox is src/cli/main_sandbox.c;
 -- docs/manual.md, "Untrusted scenes: the sandbox", says what it refuses.
 --
 --   local sandbox = require "lancer.sandbox"

@@ -1,5 +1,5 @@
 -- lancer.watch: what lancer --watch adds to each run of the script (the
--- command, src/main_watch.c, runs it again in a fresh state whenever a
+-- command, src/cli/main_watch.c, runs it again in a fresh state whenever a
 -- file it read changes). It notes the files the script loads through
 -- dofile, loadfile and require (M.files, read by the command after the
 -- run), and draws each render in the terminal pass by pass, at the top of

@@ -9,7 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <unistd.h>
-#include "geom.h"
+#include "base/geom.h"
 
 /* ---- Random draws --------------------------------------------------------- */
 

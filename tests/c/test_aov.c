@@ -14,7 +14,7 @@
 #include <cmocka.h>
 #include <openexr.h>
 #include "lancer.h"
-#include "raster.h"
+#include "image/raster.h"
 #include "helpers.h"
 
 #define W 13                       /* odd: the last chunk of rows is partial */

@@ -9,13 +9,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
-#include "mem.h"
-#include "scene.h"
+#include "base/mem.h"
+#include "scene/scene.h"
 #include "helpers.h"
-#include "compile.h"
-#include "plan.h"
-#include "intersect.h"
-#include "triangle.h"
+#include "scene/compile.h"
+#include "render/plan.h"
+#include "scene/intersect.h"
+#include "shapes/triangle.h"
 
 #define M_PI 3.14159265358979323846
 

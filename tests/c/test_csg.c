@@ -13,13 +13,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
-#include "interrupt.h"
-#include "scene.h"
+#include "base/interrupt.h"
+#include "scene/scene.h"
 #include "helpers.h"
-#include "compile.h"
-#include "plan.h"
-#include "intersect.h"
-#include "csg.h"
+#include "scene/compile.h"
+#include "render/plan.h"
+#include "scene/intersect.h"
+#include "scene/csg.h"
 
 /* ---- helpers ---------------------------------------------------------------- */
 

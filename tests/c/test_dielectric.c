@@ -8,8 +8,8 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <cmocka.h>
-#include "dielectric.h"
-#include "media.h"
+#include "material/dielectric.h"
+#include "media/media.h"
 #include "helpers.h"
 
 #define SUBNORMAL_MIN 0x1p-1074       /* C11's DBL_TRUE_MIN */

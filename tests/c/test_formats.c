@@ -13,8 +13,8 @@
 #include <unistd.h>
 #include <cmocka.h>
 #include "lancer.h"
-#include "mem.h"
-#include "raster.h"
+#include "base/mem.h"
+#include "image/raster.h"
 #include "helpers.h"
 
 #define W 13                       /* odd sizes: edge tiles and chunks are partial */

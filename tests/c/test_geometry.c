@@ -7,9 +7,9 @@
 #include <stdio.h>
 #include <string.h>
 #include <cmocka.h>
-#include "shape.h"
+#include "shapes/shape.h"
 #include "helpers.h"
-#include "plane.h"
+#include "shapes/plane.h"
 
 /* Half an ulp of 1: the relative error of one rounding. */
 #define EPS (DBL_EPSILON / 2)

@@ -8,12 +8,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
-#include "scene.h"
+#include "scene/scene.h"
 #include "helpers.h"
-#include "compile.h"
-#include "plan.h"
-#include "intersect.h"
-#include "triangle.h"
+#include "scene/compile.h"
+#include "render/plan.h"
+#include "scene/intersect.h"
+#include "shapes/triangle.h"
 
 #define PI 3.14159265358979323846
 

@@ -8,11 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
-#include "scene.h"
+#include "scene/scene.h"
 #include "helpers.h"
-#include "compile.h"
-#include "plan.h"
-#include "intersect.h"
+#include "scene/compile.h"
+#include "render/plan.h"
+#include "scene/intersect.h"
 
 /* ---- Helpers ------------------------------------------------------------- */
 

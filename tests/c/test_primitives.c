@@ -11,13 +11,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
-#include "scene.h"
+#include "scene/scene.h"
 #include "helpers.h"
-#include "cone.h"
-#include "cylinder.h"
-#include "disc.h"
-#include "ellipsoid.h"
-#include "torus.h"
+#include "shapes/cone.h"
+#include "shapes/cylinder.h"
+#include "shapes/disc.h"
+#include "shapes/ellipsoid.h"
+#include "shapes/torus.h"
 
 /* One shape prepared as the scene would: checked, then its geometry. */
 static placed_geom prepare(lc_shape s)

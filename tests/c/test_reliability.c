@@ -19,9 +19,9 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
-#include "interrupt.h"
-#include "mem.h"
-#include "scene.h"
+#include "base/interrupt.h"
+#include "base/mem.h"
+#include "scene/scene.h"
 
 /* A fresh file holding `len` bytes of `text`; the path is static. */
 static const char *file_with(const char *text, size_t len)

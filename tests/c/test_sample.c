@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
-#include "sample.h"
+#include "base/sample.h"
 
 #define KEYS 8
 

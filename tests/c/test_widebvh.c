@@ -11,14 +11,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
-#include "mem.h"
-#include "scene.h"
-#include "triangle4.h"
-#include "bvh_packet.h"
+#include "base/mem.h"
+#include "scene/scene.h"
+#include "shapes/triangle4.h"
+#include "accel/bvh_packet.h"
 #include "helpers.h"
-#include "compile.h"
-#include "plan.h"
-#include "intersect.h"
+#include "scene/compile.h"
+#include "render/plan.h"
+#include "scene/intersect.h"
 
 #define M_PI 3.14159265358979323846
 #define RANDOM_RAYS      100000

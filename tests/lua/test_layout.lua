@@ -1,6 +1,6 @@
--- test_layout.lua: the checklist atop src/shape.c says what a new kind of
+-- test_layout.lua: the checklist atop src/shapes/shape.c says what a new kind of
 -- shape touches; this reads the places it names and fails when a primitive
--- kind of src/shape.h (PRIM_*) is missing from one that applies to it, so a
+-- kind of src/shapes/shape.h (PRIM_*) is missing from one that applies to it, so a
 -- kind added in some of them and forgotten in others is caught here, not by
 -- a render that silently skips it.
 local T = require "harness"
@@ -36,41 +36,42 @@ end
 local function has(text, plain) return text:find(plain, 1, true) ~= nil end
 
 -- The kinds, in shape.h's order: every PRIM_* before PRIM_KINDS.
-local SHAPE_H = code("src/shape.h")
+local SHAPE_H = code("src/shapes/shape.h")
 local function prim_ids()
   local enum = assert(SHAPE_H:match("enum%s*{%s*(PRIM_SPHERE.-)PRIM_KINDS%s*}"),
-                      "src/shape.h: no enum of PRIM_* ids ending in PRIM_KINDS")
+                      "src/shapes/shape.h: no enum of PRIM_* ids ending in PRIM_KINDS")
   local ids = {}
   for name in enum:gmatch("PRIM_([%u%d_]+)") do ids[#ids + 1] = name end
   return ids
 end
 
 -- Shape kinds among them: shape.c's prim_kinds table maps LC_X to PRIM_X.
-local SHAPE_C = code("src/shape.c")
+local SHAPE_C = code("src/shapes/shape.c")
 local function shape_kinds()
   local kinds = {}
-  for lc, prim in body(SHAPE_C, "prim_kinds", "src/shape.c"):gmatch(
+  for lc, prim in body(SHAPE_C, "prim_kinds", "src/shapes/shape.c"):gmatch(
       "%[LC_([%u%d_]+)%]%s*=%s*PRIM_([%u%d_]+)") do
-    assert(lc == prim, ("src/shape.c: prim_kinds maps LC_%s to PRIM_%s"):format(lc, prim))
+    assert(lc == prim, ("src/shapes/shape.c: prim_kinds maps LC_%s to PRIM_%s"):format(lc, prim))
     kinds[prim] = true
   end
   return kinds
 end
 
 -- Every place checked below, by file: the checklist must name each one.
-local PLACES = {"src/lancer.h", "src/shape.h", "src/shape.c", "src/intersect.c",
-                "src/lua_shapes.c", "src/csg.c", "src/csg.h", "docs/manual.md"}
+local PLACES = {"src/lancer.h", "src/shapes/shape.h", "src/shapes/shape.c",
+                "src/scene/intersect.c", "src/lua/lua_shapes.c", "src/scene/csg.c",
+                "src/scene/csg.h", "docs/manual.md"}
 
 T.test("shape.c's checklist names every place this test checks", function()
-  local top = assert(read("src/shape.c"):match("^/%*(.-)%*/"), "src/shape.c: no top comment")
+  local top = assert(read("src/shapes/shape.c"):match("^/%*(.-)%*/"), "src/shapes/shape.c: no top comment")
   local named = {}
   for path in top:gmatch("(%a+/[%w_/]+%.%a+)") do named[path] = true end
   for _, path in ipairs(PLACES) do
-    assert(named[path], "src/shape.c's checklist does not name " .. path)
+    assert(named[path], "src/shapes/shape.c's checklist does not name " .. path)
   end
   for path in pairs(named) do
     if not path:find("wedge") and path ~= "tests/lua/test_layout.lua" then
-      assert(T.slurp(path), "src/shape.c's checklist names a missing file: " .. path)
+      assert(T.slurp(path), "src/shapes/shape.c's checklist names a missing file: " .. path)
     end
   end
 end)
@@ -78,24 +79,24 @@ end)
 T.test("the kind field of a primitive id has room for every kind", function()
   local ids = prim_ids()
   local bits = tonumber(SHAPE_H:match("#define%s+PRIM_KIND_BITS%s+(%d+)"))
-  assert(bits, "src/shape.h: no PRIM_KIND_BITS")
+  assert(bits, "src/shapes/shape.h: no PRIM_KIND_BITS")
   -- Kinds 0 .. #ids - 1; the all-ones kind is PRIM_NONE, never a primitive's.
   assert(#ids <= (1 << bits) - 1,
          ("%d kinds do not fit %d bits besides PRIM_NONE"):format(#ids, bits))
-  local shift = tonumber(read("src/bvh.h"):match("#define%s+BVH_KIND_SHIFT%s+(%d+)"))
-  T.eq(shift, 32 - bits, "src/bvh.h's BVH_KIND_SHIFT against 32 - PRIM_KIND_BITS")
+  local shift = tonumber(read("src/accel/bvh.h"):match("#define%s+BVH_KIND_SHIFT%s+(%d+)"))
+  T.eq(shift, 32 - bits, "src/accel/bvh.h's BVH_KIND_SHIFT against 32 - PRIM_KIND_BITS")
 end)
 
 T.test("every primitive kind has a BVH cost and its cases in intersect.c", function()
-  local cost = body(SHAPE_C, "shape_prim_cost", "src/shape.c")
-  local intersect = code("src/intersect.c")
+  local cost = body(SHAPE_C, "shape_prim_cost", "src/shapes/shape.c")
+  local intersect = code("src/scene/intersect.c")
   local missing = {}
   for _, x in ipairs(prim_ids()) do
     if not has(cost, "[PRIM_" .. x .. "]") then
-      missing[#missing + 1] = "src/shape.c shape_prim_cost: PRIM_" .. x
+      missing[#missing + 1] = "src/shapes/shape.c shape_prim_cost: PRIM_" .. x
     end
     if not intersect:find("PRIM_" .. x .. "%f[^%w_]") then
-      missing[#missing + 1] = "src/intersect.c: PRIM_" .. x
+      missing[#missing + 1] = "src/scene/intersect.c: PRIM_" .. x
     end
   end
   assert(#missing == 0, "missing:\n  " .. table.concat(missing, "\n  "))
@@ -114,38 +115,38 @@ local function check_kind(X, missing)
   local enum = lancer:match("typedef%s+enum%s*{([^}]-LC_SHAPE_KINDS)[^}]*}%s*lc_shape_kind")
   need(enum and enum:find(LC .. "%f[^%w_]"), "src/lancer.h", LC .. " in lc_shape_kind")
   -- 2, 3. Its own files.
-  local own_h = T.slurp("src/" .. x .. ".h")
-  need(T.slurp("src/" .. x .. ".c"), "src/" .. x .. ".c", "the file")
-  need(own_h, "src/" .. x .. ".h", "the file")
+  local own_h = T.slurp("src/shapes/" .. x .. ".h")
+  need(T.slurp("src/shapes/" .. x .. ".c"), "src/shapes/" .. x .. ".c", "the file")
+  need(own_h, "src/shapes/" .. x .. ".h", "the file")
   own_h = own_h and own_h:gsub("/%*.-%*/", " ") or ""
   local placed = has(own_h, '#include "placed.h"')
   for _, f in ipairs{"_check", "_prepare", "_uv"} do
-    need(has(own_h, x .. f .. "("), "src/" .. x .. ".h", x .. f)
+    need(has(own_h, x .. f .. "("), "src/shapes/" .. x .. ".h", x .. f)
   end
   -- 5. shape.c: the tables and the switches.
   local function in_body(name, plain, what)
-    need(has(body(SHAPE_C, name, "src/shape.c"), plain), "src/shape.c " .. name, what or plain)
+    need(has(body(SHAPE_C, name, "src/shapes/shape.c"), plain), "src/shapes/shape.c " .. name, what or plain)
   end
   in_body("kind_names", "[" .. LC .. "] = \"" .. x .. "\"")
   in_body("geom_sizes", "[" .. LC .. "]")
   in_body("lc_shape_check", x .. "_check(")
   in_body("shape_prepare", x .. "_prepare(")
   in_body("shape_uv", x .. "_uv(")
-  local bounded = not has(body(SHAPE_C, "shape_bounded", "src/shape.c"), LC)
-  local emits = not has(body(SHAPE_C, "shape_can_emit", "src/shape.c"), LC)
+  local bounded = not has(body(SHAPE_C, "shape_bounded", "src/shapes/shape.c"), LC)
+  local emits = not has(body(SHAPE_C, "shape_can_emit", "src/shapes/shape.c"), LC)
   if bounded then in_body("shape_bounds", x .. "_bounds(") end
   if emits then in_body("shape_light_sample", x .. "_light_sample(") end
-  local stored = body(SHAPE_C, "lc_shape_stored", "src/shape.c")
-  need(has(stored, (placed and "placed" or x) .. "_geom"), "src/shape.c lc_shape_stored",
+  local stored = body(SHAPE_C, "lc_shape_stored", "src/shapes/shape.c")
+  need(has(stored, (placed and "placed" or x) .. "_geom"), "src/shapes/shape.c lc_shape_stored",
        "its geometry in the union")
   if placed then
-    local lo, hi = body(SHAPE_C, "placed_kind", "src/shape.c"):match(
+    local lo, hi = body(SHAPE_C, "placed_kind", "src/shapes/shape.c"):match(
       "k%s*>=%s*LC_([%u%d_]+)%s*&&%s*k%s*<=%s*LC_([%u%d_]+)")
     local order = {}
     for name in enum:gmatch("LC_([%u%d_]+)") do order[#order + 1] = name end
     local at = {}
     for i, name in ipairs(order) do at[name] = i end
-    need(lo and at[lo] <= at[X] and at[X] <= at[hi], "src/shape.c placed_kind", LC)
+    need(lo and at[lo] <= at[X] and at[X] <= at[hi], "src/shapes/shape.c placed_kind", LC)
     if emits then in_body("shape_prepare_emitter", x .. "_area(") end
   else
     in_body("lc_shape_transform", x .. "_transform(")
@@ -157,29 +158,29 @@ local function check_kind(X, missing)
     end
   end
   -- 6. intersect.c: the nearest-hit switch.
-  local intersect = code("src/intersect.c")
-  local prim_t = body(intersect, "prim_t", "src/intersect.c")
-  need(has(prim_t, "case PRIM_" .. X .. ":"), "src/intersect.c prim_t", "case PRIM_" .. X)
-  need(prim_t:find(x .. "_t%(") or prim_t:find(x .. "_hit"), "src/intersect.c prim_t",
+  local intersect = code("src/scene/intersect.c")
+  local prim_t = body(intersect, "prim_t", "src/scene/intersect.c")
+  need(has(prim_t, "case PRIM_" .. X .. ":"), "src/scene/intersect.c prim_t", "case PRIM_" .. X)
+  need(prim_t:find(x .. "_t%(") or prim_t:find(x .. "_hit"), "src/scene/intersect.c prim_t",
        "its distance test")
-  local finish = body(intersect, "prim_finish", "src/intersect.c")
+  local finish = body(intersect, "prim_finish", "src/scene/intersect.c")
   local complete = intersect:match("#define%s+COMPLETE%s+(%b())") or ""
   need(has(finish, "PRIM_" .. X) or has(complete, "PRIM_" .. X),
-       "src/intersect.c prim_finish", "PRIM_" .. X .. " (or its bit in COMPLETE)")
+       "src/scene/intersect.c prim_finish", "PRIM_" .. X .. " (or its bit in COMPLETE)")
   -- 7. lua_shapes.c: fields, constructor, registration.
-  local lua = code("src/lua_shapes.c")
-  need(has(body(lua, "kind_fields", "src/lua_shapes.c"), "[" .. LC .. "]"),
-       "src/lua_shapes.c kind_fields", LC)
-  need(lua:find("\nstatic int w_" .. x .. "%("), "src/lua_shapes.c", "w_" .. x)
-  need(has(body(lua, "lb_shapes_register", "src/lua_shapes.c"),
-           "{\"" .. x .. "\", w_" .. x .. "}"), "src/lua_shapes.c lb_shapes_register", x)
+  local lua = code("src/lua/lua_shapes.c")
+  need(has(body(lua, "kind_fields", "src/lua/lua_shapes.c"), "[" .. LC .. "]"),
+       "src/lua/lua_shapes.c kind_fields", LC)
+  need(lua:find("\nstatic int w_" .. x .. "%("), "src/lua/lua_shapes.c", "w_" .. x)
+  need(has(body(lua, "lb_shapes_register", "src/lua/lua_shapes.c"),
+           "{\"" .. x .. "\", w_" .. x .. "}"), "src/lua/lua_shapes.c lb_shapes_register", x)
   -- 8. csg.c and csg.h, for the kinds that bound a solid.
-  local csg = code("src/csg.c")
-  if has(body(csg, "closed_kind", "src/csg.c"), LC) then
-    need(has(body(csg, "shape_cross", "src/csg.c"), x .. "_hit"),
-         "src/csg.c shape_cross", x .. "_hit")
-    local leaf = code("src/csg.h"):match("union%s*(%b{})%s*g;") or ""
-    need(has(leaf, (placed and "placed" or x) .. "_geom"), "src/csg.h csg_leaf",
+  local csg = code("src/scene/csg.c")
+  if has(body(csg, "closed_kind", "src/scene/csg.c"), LC) then
+    need(has(body(csg, "shape_cross", "src/scene/csg.c"), x .. "_hit"),
+         "src/scene/csg.c shape_cross", x .. "_hit")
+    local leaf = code("src/scene/csg.h"):match("union%s*(%b{})%s*g;") or ""
+    need(has(leaf, (placed and "placed" or x) .. "_geom"), "src/scene/csg.h csg_leaf",
          "its geometry in the union")
   end
   -- 9. The manual: its constructor and its texture coordinates.
@@ -201,6 +202,6 @@ T.test("every shape kind is in every place shape.c's checklist names", function(
       check_kind(X, missing)
     end
   end
-  assert(n >= 9, ("only %d shape kinds found in src/shape.c's prim_kinds"):format(n))
+  assert(n >= 9, ("only %d shape kinds found in src/shapes/shape.c's prim_kinds"):format(n))
   assert(#missing == 0, "missing:\n  " .. table.concat(missing, "\n  "))
 end)

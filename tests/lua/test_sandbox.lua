@@ -638,14 +638,13 @@ T.test("lancer_sandbox_open: an embedder's state refuses, caps, runs lancer", fu
   local build = LANCER:gsub("/bin/lancer$", "")
   local dir = layout()
   T.write(dir .. "/host.c", HOST_C)
-  local objs = output_of("ls " .. q(build) .. "/obj/lua_*.o " .. q(build) ..
-                         "/obj/progress_bar.o"):gsub("\n", " ")
+  local objs = output_of("ls " .. q(build) .. "/obj/lua/*.o"):gsub("\n", " ")
   -- A sanitized build's objects need the sanitizers' runtimes (as test_docs.lua).
   local san = os.execute(("nm %s 2>/dev/null | grep -q __asan_"):format(
     q(build .. "/liblancer.a"))) and "-fsanitize=address,undefined " or ""
   local cc = ("cc -std=c99 %s-D_POSIX_C_SOURCE=200809L -I%s " ..
               "$(pkg-config --cflags lua5.4) " ..
-              "-o %s %s %s %s/obj/main_sandbox.o %s/obj/main_caps.o %s/liblancer.a " ..
+              "-o %s %s %s %s/obj/cli/main_sandbox.o %s/obj/cli/main_caps.o %s/liblancer.a " ..
               "$(pkg-config --libs lua5.4) $(PKG_CONFIG_PATH=%s pkg-config --libs lancer) " ..
               "2>&1"):format(
               san, q(ROOT .. "/src"), q(dir .. "/host"), q(dir .. "/host.c"), objs,

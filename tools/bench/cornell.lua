@@ -125,7 +125,7 @@ end
 -- hashed, and the settings): a bench run after the first reads it back.
 function M.reference(ctx)
   local lancer = require "lancer"
-  local hash = ctx.run.output(("cd %s && cat scenes/cornell.lua src/path.c src/bsdf.h src/light*.h" ..
+  local hash = ctx.run.output(("cd %s && cat scenes/cornell.lua src/render/path.c src/material/bsdf.h src/light/*.h" ..
                                " | sha1sum"):format(ctx.run.quote(ctx.root))) or "?"
   local key = ("%s side=%d indirect=%d half=%d"):format(hash:match("^%x+") or "?", M.SIDE,
                                                        M.REF_INDIRECT, M.REF_HALF)

@@ -1,7 +1,7 @@
 -- parity.lua: what the full shading costs on a scene that needs none of it
 -- (docs/numerics.md S7). scenes/bench/s7.lua (diffuse only, 1024x1024 at 4 spp,
 -- 1000 spheres and 1000 triangles, 2 point lights) traced by the normal
--- lancer and by `make MINIMAL=1`'s (src/shade_minimal.c: the diffuse path
+-- lancer and by `make MINIMAL=1`'s (src/render/shade_minimal.c: the diffuse path
 -- alone, over the same intersection, BVH and camera code), interleaved; the
 -- target is at most 1.05x the minimal build's trace time. Both must draw the
 -- same image with the same rays.
@@ -99,7 +99,7 @@ function M.section(ctx)
   local lines = {"## What the full shading costs (S7)\n\n",
     "Trace seconds (median of ", #ratios, " interleaved pairs, ", threads,
     " threads each) of the full build and of\n",
-    "`make MINIMAL=1` (`src/shade_minimal.c`: closest hit, point lights with one\n",
+    "`make MINIMAL=1` (`src/render/shade_minimal.c`: closest hit, point lights with one\n",
     "shadow ray each, Lambert and ambient; no plans, switches, specular, mirrors,\n",
     "emitters, cutoff or explain) on `", M.SCRIPT, "` (1024x1024, 4 spp,\n",
     "1000 spheres, 1000 triangles, 2 point lights, diffuse only). The ratio is the\n",

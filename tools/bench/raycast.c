@@ -30,7 +30,7 @@
 #include <string.h>
 #include <time.h>
 #include "lancer.h"
-#include "mem.h"
+#include "base/mem.h"
 
 #define W 1280
 #define H 720

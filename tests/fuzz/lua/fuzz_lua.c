@@ -33,7 +33,7 @@
 #include <lua.h>
 #include <lualib.h>
 #include "lancer.h"
-#include "lua_lancer.h"
+#include "lua/lua_lancer.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
