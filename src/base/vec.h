@@ -96,12 +96,6 @@ static inline lc_color rgb(float r, float g, float b)
     lc_color c = {r, g, b};
     return c;
 }
-static inline lc_color c_add(lc_color a, lc_color b) { return rgb(a.r + b.r, a.g + b.g, a.b + b.b); }
-static inline lc_color c_mul(lc_color a, lc_color b) { return rgb(a.r * b.r, a.g * b.g, a.b * b.b); }
-static inline lc_color c_scale(lc_color a, double s)
-{
-    return rgb((float)(a.r * s), (float)(a.g * s), (float)(a.b * s));
-}
 static inline int c_is_black(lc_color a) { return a.r == 0 && a.g == 0 && a.b == 0; }
 
 #endif

@@ -453,7 +453,10 @@ static uint16_t material_plan(const lc_material *raw, unsigned needs,
     return p;
 }
 
-lc_status plan_frame(lc_scene *s, const lc_render_options *o, lc_error *err)
+/* Decides, for a render of s with options o (NULL: the defaults), s->c's
+** needs (LC_NEED_*), their whys, depth, sky_uv, sky_lights and per-material
+** plan (PLAN_*). Out of memory, the rest of s->c stays as it was. */
+static lc_status plan_frame(lc_scene *s, const lc_render_options *o, lc_error *err)
 {
     compiled *c = &s->c;
     lc_render_options def = lc_render_options_default();

@@ -6,11 +6,6 @@
 #include <signal.h>
 #include "scene/scene.h"
 
-/* Decides, for a render of s with options o (NULL: the defaults), s->c's
-** needs (LC_NEED_*), their whys, depth, sky_uv, sky_lights and per-material
-** plan (PLAN_*). Out of memory, the rest of s->c stays as it was. */
-lc_status plan_frame(lc_scene *s, const lc_render_options *o, lc_error *err);
-
 /* What a render of s with options o (NULL: the defaults) reads: the
 ** geometry (compile_geometry, which stops with LC_ECANCEL once
 ** interrupt_count() differs from interrupts_seen), then the plan, and the
