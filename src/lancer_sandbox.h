@@ -1,7 +1,7 @@
 /* lancer_sandbox.h: a Lua state for untrusted scene files, for a host that
 ** embeds lancer's Lua binding (the lancer command's --sandbox is one). Build
 ** src/cli/main_sandbox.c and src/cli/main_caps.c with the host, beside the
-** binding's src/lua/*.c; docs/manual.md, "Untrusted scenes: the sandbox",
+** binding's files (src/lua/); docs/manual.md, "Untrusted scenes: the sandbox",
 ** says what the state refuses and what it does not guard against. */
 #ifndef LANCER_SANDBOX_H
 #define LANCER_SANDBOX_H

@@ -103,3 +103,31 @@ T.test("layers: the core calls no Lua, prints nothing and never exits", function
     end
   end
 end)
+
+-- The core's folders in the Makefile's order (CORE_DIRS; test_folders.lua
+-- holds it to README.md's): a call may go to an object of its own folder or
+-- of one listed before it, as includes do. Public functions (lc_*) that a
+-- lower folder would call are no exception: an include test cannot see
+-- those, since every folder includes lancer.h.
+T.test("layers: no core folder calls into one listed after it", function()
+  local dirs = assert(T.slurp("Makefile"):match("\nCORE_DIRS%s*:=%s*([^\n]*)"),
+                      "Makefile: no CORE_DIRS")
+  local rank, n = {}, 0
+  for d in dirs:gmatch("%S+") do n = n + 1; rank[d] = n end
+  local objects = core_objects()
+  assert(#objects > 10, "too few core objects in " .. OBJ)
+  local edges = calls(objects, symbols(objects))
+  local bad = {}
+  for from, targets in pairs(edges) do
+    for to, sym in pairs(targets) do
+      local a, b = from:match("^[^/]+"), to:match("^[^/]+")
+      assert(rank[a] and rank[b], ("%s or %s is in no folder of CORE_DIRS"):format(from, to))
+      if rank[b] > rank[a] then
+        bad[#bad + 1] = ("%s.c calls %s (%s.c): src/%s/ is after src/%s/"):format(
+          from, sym, to, b, a)
+      end
+    end
+  end
+  table.sort(bad)
+  assert(#bad == 0, table.concat(bad, "\n"))
+end)
