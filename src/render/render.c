@@ -146,7 +146,8 @@ static void put_pixel(lc_image *img, int x, int y, const double sum[3], uint32_t
 }
 
 /* Pixel (x, y) of the frame, in the image when the region holds it. */
-ALWAYS_INLINE void put(job *j, int x, int y, const double sum[3], uint32_t n, uint32_t hits)
+ALWAYS_INLINE void frame_put(job *j, int x, int y, const double sum[3], uint32_t n,
+                             uint32_t hits)
 {
     if (x < j->x0 || x >= j->x1 || y < j->y0 || y >= j->y1)
         return;                                     /* the margin: traced, not kept */
@@ -178,7 +179,7 @@ NEVER_INLINE void tile_pass(job *j, tracer *t, int x0, int y0, int x1, int y1)
                 sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
             }
             t->samples += j->to - j->from;
-            put(j, x, y, sum, j->to, hits ? *hits : 0);
+            frame_put(j, x, y, sum, j->to, hits ? *hits : 0);
         }
 }
 
@@ -202,7 +203,7 @@ NEVER_INLINE void render_pixel_aovs(job *j, worker *w, int x, int y, uint32_t n,
     }
     t->aov = NULL;
     t->samples += n;
-    put(j, x, y, sum, n, hits);
+    frame_put(j, x, y, sum, n, hits);
     if (x >= j->x0 && x < j->x1 && y >= j->y0 && y < j->y1)
         aov_put(j->img, x - j->x0, y - j->y0, &p, n);
 }
@@ -243,7 +244,7 @@ static void render_tile(job *j, worker *w, int tile)
                     sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
                 }
                 t->samples += n;
-                put(j, x, y, sum, n, hits);
+                frame_put(j, x, y, sum, n, hits);
                 continue;
             }
             /* Adaptive: on from where the last pass stopped; odd-numbered
@@ -258,7 +259,7 @@ static void render_tile(job *j, worker *w, int tile)
             }
             t->samples += s - ad->n[pixel];
             ad->n[pixel] = s;
-            put(j, x, y, sum, s, hits ? *hits : 0);
+            frame_put(j, x, y, sum, s, hits ? *hits : 0);
         }
 }
 
