@@ -558,10 +558,12 @@ lc_image *lc_image_load_exr(const char *path, lc_error *err)
         if (k < 0)
             continue;                              /* other layers: not read */
         if (e->x_sampling != 1 || e->y_sampling != 1 || e->pixel_type == EXR_PIXEL_UINT) {
-            exr_close(&x);
+            /* The message first: the channel list is the library's, freed
+            ** with the file. */
             error_fail(err, LC_EARG, "path", "cannot read '%s': channel %s is %s, lancer "
                        "reads half or float channels at every pixel", path, e->name.str,
                        e->pixel_type == EXR_PIXEL_UINT ? "unsigned int" : "subsampled");
+            exr_close(&x);
             return NULL;
         }
         have[k] = 1;
