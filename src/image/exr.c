@@ -459,7 +459,58 @@ typedef struct {
     size_t stride[4];         /* bytes from one row to the next */
     int    bytes;             /* per sample: 4 (float, converted) or the file's */
     int    convert;           /* decode to float */
+    int    grey;              /* Y into R's place (copied to G and B after) */
 } exr_target;
+
+/* Bug: OpenEXRCore 3.1.5 picks its unpacking routine from the channels'
+** count and types, and its routine for three halves writes through every
+** channel's pointer, NULL or not (B, G and M: a NULL write); its routine
+** for subsampled channels lost the rows of the others. lancer unpacks the
+** decompressed chunk itself, for every layout: line after line, each
+** channel's samples of that line in the file's order, little-endian, a
+** subsampled channel only on the lines it samples. Only the channels
+** given a place are written, as half (copied) or float (copied or from a
+** half); the rest are stepped over. */
+static exr_result_t unpack_chunk(exr_decode_pipeline_t *dec)
+{
+    const unsigned char *src = dec->unpacked_buffer;
+    uint64_t left = dec->chunk.unpacked_size;
+    if (!src && left)
+        return EXR_ERR_CORRUPT_CHUNK;
+    for (int y = 0; y < dec->chunk.height; y++) {
+        int at = dec->chunk.start_y + y;
+        for (int c = 0; c < dec->channel_count; c++) {
+            const exr_coding_channel_info_t *ch = &dec->channels[c];
+            if (ch->y_samples > 1 && at % ch->y_samples != 0)
+                continue;
+            uint64_t n = (uint64_t)ch->width * (uint64_t)ch->bytes_per_element;
+            if (n > left)
+                return EXR_ERR_CORRUPT_CHUNK;
+            unsigned char *out = ch->decode_to_ptr;
+            if (out)
+                out += (size_t)y * (size_t)ch->user_line_stride;
+            for (int x = 0; out && x < ch->width; x++) {
+                const unsigned char *p = src + (size_t)x * ch->bytes_per_element;
+                unsigned char *o = out + (size_t)x * ch->user_pixel_stride;
+                if (ch->bytes_per_element == 2) {
+                    uint16_t h = (uint16_t)(p[0] | p[1] << 8);
+                    float f = raster_float(h);
+                    if (ch->user_data_type == EXR_PIXEL_FLOAT)
+                        memcpy(o, &f, 4);
+                    else
+                        memcpy(o, &h, 2);
+                } else {
+                    uint32_t v = (uint32_t)p[0] | (uint32_t)p[1] << 8 |
+                                 (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+                    memcpy(o, &v, 4);
+                }
+            }
+            src += n;
+            left -= n;
+        }
+    }
+    return EXR_ERR_SUCCESS;
+}
 
 static exr_result_t read_chunk(exr_file *x, exr_decode_pipeline_t *dec, int *started,
                                const exr_chunk_info_t *ci, const exr_target *t, int cx,
@@ -476,11 +527,12 @@ static exr_result_t read_chunk(exr_file *x, exr_decode_pipeline_t *dec, int *sta
     for (int c = 0; c < dec->channel_count; c++) {
         exr_coding_channel_info_t *ch = &dec->channels[c];
         int k = channel_slot(ch->channel_name);
-        if (k < 0 && strcmp(ch->channel_name, "Y") == 0)
-            k = 0;                                 /* grey: into R, copied after */
+        if (k < 0 && t->grey && strcmp(ch->channel_name, "Y") == 0)
+            k = 0;
         ch->decode_to_ptr = NULL;
-        if (k < 0 || !t->base[k] || ch->height != ci->height || ch->width != ci->width)
-            continue;
+        if (k < 0 || !t->base[k] || ch->height != ci->height || ch->width != ci->width ||
+            (ch->bytes_per_element != 2 && ch->data_type != EXR_PIXEL_FLOAT))
+            continue;                              /* not kept: stepped over */
         ch->user_bytes_per_element = (int16_t)t->bytes;
         ch->user_data_type = t->convert ? EXR_PIXEL_FLOAT : ch->data_type;
         ch->user_pixel_stride = t->pixel[k];
@@ -489,7 +541,13 @@ static exr_result_t read_chunk(exr_file *x, exr_decode_pipeline_t *dec, int *sta
                             (size_t)cx * t->pixel[k];
     }
     rv = exr_decoding_choose_default_routines(x->ctx, 0, dec);
-    return rv == EXR_ERR_SUCCESS ? exr_decoding_run(x->ctx, 0, dec) : rv;
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    /* None chosen: every channel read straight into its place, uncompressed
+    ** and as the file stores it; otherwise lancer's own (see unpack_chunk). */
+    if (dec->unpack_and_convert_fn)
+        dec->unpack_and_convert_fn = unpack_chunk;
+    return exr_decoding_run(x->ctx, 0, dec);
 }
 
 /* Decodes every chunk of level 0 into t. */
@@ -582,6 +640,7 @@ lc_image *lc_image_load_exr(const char *path, lc_error *err)
     memset(&t, 0, sizeof t);
     t.bytes = 4;
     t.convert = 1;
+    t.grey = grey;
     for (int k = 0; k < 3; k++) {
         if (have[k] || (k == 0 && grey))
             t.base[k] = (unsigned char *)(img->px + k);

@@ -560,10 +560,65 @@ static void exr_channels_lancer_cannot_read_are_named(void **state)
             lc_error err;
             assert_null(lc_image_load_exr(p, &err));
             char want[256];
-            snprintf(want, sizeof want, "cannot read '%s': channel %s is %s, lancer reads "
-                     "half or float channels at every pixel", p, names[k],
+            snprintf(want, sizeof want, "cannot read '%s': channel %s is %s, lancer "
+                     "reads half or float channels at every pixel", p, names[k],
                      sub ? "subsampled" : "unsigned int");
             assert_string_equal(err.msg, want);
+        }
+}
+
+/* Every set of R, G, B, A, Y and two channels lancer skips (M, Z), of
+** halves, floats or both, the skipped ones also unsigned or subsampled,
+** uncompressed or in chunks of 16 lines (ZIP):
+** each read gives what its channels say, grey from Y alone. OpenEXRCore
+** 3.1.5's routine for three interleaved halves wrote through the pointer
+** of a channel given none (B, G, M: a segmentation fault). */
+static void exr_every_channel_layout_reads(void **state)
+{
+    (void)state;
+    static const char *const names[] = {"A", "B", "G", "M", "R", "Y", "Z"};
+    const char *p = path_of("layout.exr");
+    enum { N = 7, SIDE = 18 };
+    for (int set = 1; set < 1 << N; set++)
+        for (int kind = 0; kind < 5; kind++) {
+            test_channel chans[N];
+            int n = 0, has[N] = {0};
+            for (int c = 0; c < N; c++) {
+                if (!(set & 1 << c))
+                    continue;
+                has[c] = 1;
+                int skipped = c == 3 || c == 6;
+                exr_pixel_type_t t = kind == 1 || (kind == 2 && c % 2) ? EXR_PIXEL_FLOAT
+                                                                        : EXR_PIXEL_HALF;
+                if (kind == 3 && skipped)
+                    t = EXR_PIXEL_UINT;
+                chans[n++] = (test_channel){names[c], t, kind == 4 && skipped ? 2 : 1};
+            }
+            write_layout(p, chans, n, SIDE, SIDE,
+                         (set + kind) % 2 ? EXR_COMPRESSION_ZIP : EXR_COMPRESSION_NONE);
+            lc_error err;
+            lc_image *img = lc_image_load_exr(p, &err);
+            if (!img)
+                fail_msg("set %#x kind %d: %s", set, kind, err.msg);
+            int rgb = has[4] || has[2] || has[1], grey = has[5] && !rgb;
+            assert_int_equal(lc_image_has_alpha(img), has[0]);
+            for (int y = 0; y < SIDE; y++)
+                for (int x = 0; x < SIDE; x++) {
+                    lc_color got = lc_image_get(img, x, y);
+                    float want[3];
+                    static const int slot[3] = {4, 2, 1};           /* R, G, B */
+                    for (int i = 0; i < 3; i++)
+                        want[i] = grey ? layout_value("Y", x, y) :
+                                  has[slot[i]] ? layout_value(names[slot[i]], x, y) : 0;
+                    if (got.r != want[0] || got.g != want[1] || got.b != want[2])
+                        fail_msg("set %#x kind %d at %d,%d: %g %g %g, not %g %g %g",
+                                 set, kind, x, y, got.r, got.g, got.b, want[0], want[1],
+                                 want[2]);
+                    if (has[0])
+                        assert_true(lc_image_get_alpha(img, x, y) ==
+                                    layout_value("A", x, y));
+                }
+            lc_image_free(img);
         }
 }
 
@@ -580,6 +635,7 @@ int main(void)
         cmocka_unit_test(broken_exr_files_fail_cleanly),
         cmocka_unit_test(huge_exr_headers_name_the_cap),
         cmocka_unit_test(exr_channels_lancer_cannot_read_are_named),
+        cmocka_unit_test(exr_every_channel_layout_reads),
     };
     return cmocka_run_group_tests(tests, setup, getenv("KEEP") ? NULL : teardown);
 }
