@@ -1,6 +1,8 @@
 /* mtl.c: Wavefront material libraries (.mtl), and their mapping onto
 ** lancer's materials. */
 #include <errno.h>
+#include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,61 +26,6 @@ static lc_mtl mtl_default(void)
     return m;
 }
 
-/* Up to 3 numbers after the keyword: one means grey. 0 when none or one is
-** not finite. */
-static int color_of(const char *s, lc_color *c)
-{
-    double x[3];
-    int n = 0;
-    while (n < 3) {
-        char *end;
-        x[n] = strtod(s, &end);
-        if (end == s)
-            break;
-        if (!isfinite(x[n]))
-            return 0;
-        s = end;
-        n++;
-    }
-    if (n == 0)
-        return 0;
-    if (n < 3)
-        x[1] = x[2] = x[0];
-    *c = (lc_color){(float)x[0], (float)x[1], (float)x[2]};
-    return 1;
-}
-
-static int number_of(const char *s, double *x)
-{
-    char *end;
-    *x = strtod(s, &end);
-    return end != s && isfinite(*x);
-}
-
-/* A map statement's file: the last word, its options (-bm 0.5, -s 1 1 1,
-** ...) before it; -bm read into *bm. Resolved beside the .mtl file. */
-static int map_of(const char *mtl, char *s, char out[LC_MTL_PATH], double *bm)
-{
-    char *words[64];
-    int n = 0;
-    char *save = NULL;
-    for (char *w = strtok_r(s, " \t", &save); w && n < 64; w = strtok_r(NULL, " \t", &save))
-        words[n++] = w;
-    if (n == 0)
-        return 0;
-    for (int i = 0; i + 1 < n - 1; i++)
-        if (bm && strcmp(words[i], "-bm") == 0)
-            number_of(words[i + 1], bm);
-    const char *file = words[n - 1];
-    const char *slash = strrchr(mtl, '/');
-    size_t dir = file[0] == '/' || !slash ? 0 : (size_t)(slash - mtl) + 1;
-    if (dir + strlen(file) + 1 > LC_MTL_PATH)
-        return 0;
-    memcpy(out, mtl, dir);
-    strcpy(out + dir, file);
-    return 1;
-}
-
 /* One .mtl file being read: the materials so far, the last the one its
 ** statements set. */
 typedef struct {
@@ -88,6 +35,89 @@ typedef struct {
     lc_mtl     *list;      /* realloc'd: the caller free()s it */
     size_t      n, cap;
 } mtl_reader;
+
+static lc_status needs(const mtl_reader *r, const char *key, const char *what)
+{
+    return error_fail(r->err, LC_EARG, NULL, "%s:%zu: '%s' needs %s", r->path, r->lineno,
+                      key, what);
+}
+
+static int number_of(const char *s, double *x)
+{
+    char *end;
+    *x = strtod(s, &end);
+    return end != s && isfinite(*x);
+}
+
+/* Up to 3 numbers after the keyword: one means grey. Each must be a finite
+** double that a float (lc_color's) holds: 1e300 would become infinite. */
+static lc_status color_of(const mtl_reader *r, const char *key, const char *s,
+                          lc_color *c)
+{
+    double x[3];
+    int n = 0;
+    while (n < 3) {
+        char *end;
+        x[n] = strtod(s, &end);
+        if (end == s)
+            break;
+        if (!isfinite(x[n]))
+            return needs(r, key, "finite numbers");
+        if (fabs(x[n]) > FLT_MAX)
+            return error_fail(r->err, LC_EARG, NULL, "%s:%zu: '%s' needs numbers a float "
+                              "holds (to %g), not %g", r->path, r->lineno, key,
+                              (double)FLT_MAX, x[n]);
+        s = end;
+        n++;
+    }
+    if (n == 0)
+        return needs(r, key, "finite numbers");
+    if (n < 3)
+        x[1] = x[2] = x[0];
+    *c = (lc_color){(float)x[0], (float)x[1], (float)x[2]};
+    return LC_OK;
+}
+
+/* illum: a number an int holds (converting one past it is undefined). */
+static lc_status illum_of(const mtl_reader *r, const char *s, int *illum)
+{
+    double x;
+    if (!number_of(s, &x))
+        return needs(r, "illum", "finite numbers");
+    if (!(x >= INT_MIN && x < (double)INT_MAX + 1))
+        return error_fail(r->err, LC_EARG, NULL, "%s:%zu: 'illum' needs an integer from "
+                          "%d to %d, not %g", r->path, r->lineno, INT_MIN, INT_MAX, x);
+    *illum = (int)x;
+    return LC_OK;
+}
+
+/* A map statement's file: the last word, its options (-bm 0.5, -s 1 1 1,
+** ...) before it; -bm read into *bm, 0 when it is not a finite number.
+** Resolved beside the .mtl file. */
+static int map_of(const char *mtl, char *s, char out[LC_MTL_PATH], double *bm,
+                  int *bad_bm)
+{
+    char *words[64];
+    int n = 0;
+    char *save = NULL;
+    for (char *w = strtok_r(s, " \t", &save); w && n < 64; w = strtok_r(NULL, " \t", &save))
+        words[n++] = w;
+    if (n == 0)
+        return 0;
+    for (int i = 0; i + 1 < n - 1; i++)
+        if (bm && strcmp(words[i], "-bm") == 0 && !number_of(words[i + 1], bm)) {
+            *bad_bm = 1;
+            return 0;
+        }
+    const char *file = words[n - 1];
+    const char *slash = strrchr(mtl, '/');
+    size_t dir = file[0] == '/' || !slash ? 0 : (size_t)(slash - mtl) + 1;
+    if (dir + strlen(file) + 1 > LC_MTL_PATH)
+        return 0;
+    memcpy(out, mtl, dir);
+    strcpy(out + dir, file);
+    return 1;
+}
 
 /* newmtl NAME: a material of the format's defaults, NAME its trailing
 ** blanks dropped. */
@@ -117,28 +147,36 @@ static lc_status read_newmtl(mtl_reader *r, char *name)
     return LC_OK;
 }
 
-/* A statement `key rest` of material m; 0 when rest is not what key needs.
-** Keys lancer does not map are skipped. */
-static int read_statement(lc_mtl *m, const char *path, const char *key, char *rest)
+/* A statement `key rest` of material m. Keys lancer does not map are
+** skipped. */
+static lc_status read_statement(const mtl_reader *r, lc_mtl *m, const char *key,
+                                char *rest)
 {
     double x;
-    int ok = 1;
-    if (strcmp(key, "Kd") == 0) ok = color_of(rest, &m->kd);
-    else if (strcmp(key, "Ks") == 0) ok = color_of(rest, &m->ks);
-    else if (strcmp(key, "Ka") == 0) ok = color_of(rest, &m->ka);
-    else if (strcmp(key, "Ke") == 0) ok = color_of(rest, &m->ke);
-    else if (strcmp(key, "Ns") == 0) ok = number_of(rest, &m->ns);
+    int ok = 1, bad_bm = 0;
+    if (strcmp(key, "Kd") == 0) return color_of(r, key, rest, &m->kd);
+    if (strcmp(key, "Ks") == 0) return color_of(r, key, rest, &m->ks);
+    if (strcmp(key, "Ka") == 0) return color_of(r, key, rest, &m->ka);
+    if (strcmp(key, "Ke") == 0) return color_of(r, key, rest, &m->ke);
+    if (strcmp(key, "illum") == 0) return illum_of(r, rest, &m->illum);
+    /* Ns, Ni, d and Tr stay doubles, as the core's material keeps them. */
+    if (strcmp(key, "Ns") == 0) ok = number_of(rest, &m->ns);
     else if (strcmp(key, "Ni") == 0) ok = number_of(rest, &m->ni);
     else if (strcmp(key, "d") == 0) ok = number_of(rest, &m->d);
     else if (strcmp(key, "Tr") == 0) { ok = number_of(rest, &x); m->d = 1 - x; }
-    else if (strcmp(key, "illum") == 0) { ok = number_of(rest, &x); m->illum = (int)x; }
-    else if (strcmp(key, "map_Kd") == 0) ok = map_of(path, rest, m->map_kd, NULL);
+    else if (strcmp(key, "map_Kd") == 0)
+        ok = map_of(r->path, rest, m->map_kd, NULL, NULL);
     else if (strcmp(key, "map_Bump") == 0 || strcmp(key, "bump") == 0 ||
              strcmp(key, "map_bump") == 0)
-        ok = map_of(path, rest, m->map_bump, &m->bump_mult);
+        ok = map_of(r->path, rest, m->map_bump, &m->bump_mult, &bad_bm);
     else if (strcmp(key, "norm") == 0 || strcmp(key, "map_norm") == 0)
-        ok = map_of(path, rest, m->map_norm, NULL);
-    return ok;
+        ok = map_of(r->path, rest, m->map_norm, NULL, NULL);
+    if (ok)
+        return LC_OK;
+    if (bad_bm)
+        return needs(r, key, "a finite number after -bm");
+    return needs(r, key, strncmp(key, "map", 3) == 0 || strcmp(key, "bump") == 0 ||
+                         strcmp(key, "norm") == 0 ? "a file name" : "finite numbers");
 }
 
 /* One line, its comment and trailing newline dropped. */
@@ -156,12 +194,7 @@ static lc_status read_mtl_line(mtl_reader *r, char *line)
         return read_newmtl(r, rest);
     if (r->n == 0)
         return LC_OK;            /* statements before any newmtl belong to none */
-    if (!read_statement(&r->list[r->n - 1], r->path, key, rest))
-        return error_fail(r->err, LC_EARG, NULL, "%s:%zu: '%s' needs %s", r->path,
-                          r->lineno, key,
-                          strncmp(key, "map", 3) == 0 || strcmp(key, "bump") == 0 ||
-                          strcmp(key, "norm") == 0 ? "a file name" : "finite numbers");
-    return LC_OK;
+    return read_statement(r, &r->list[r->n - 1], key, rest);
 }
 
 lc_status lc_mtl_load(const char *path, lc_mtl **out, size_t *count, lc_error *err)

@@ -127,6 +127,38 @@ T.test("load_obj: .mtl errors name the file and the line; a missing map names it
                 "b.obj:11: 'usemtl' needs a material name")
 end)
 
+T.test("load_obj: .mtl numbers past what lancer keeps name the file, line, field", function()
+  local dir = T.temp_dir()
+  T.write(dir .. "/c.obj", "mtllib c.mtl\n" .. QUADS .. "usemtl x\nf 1 2 3\n")
+  -- An int cannot hold 1e300 (converting it was undefined behaviour); a
+  -- float cannot either (Ke 1e300 was an infinite emission, refused later
+  -- by scene:add without naming the .mtl).
+  local cases = {
+    {"illum 1e300", "c.mtl:2: 'illum' needs an integer from -2147483648 to "
+     .. "2147483647, not 1e+300"},
+    {"illum -3e9", "c.mtl:2: 'illum' needs an integer from -2147483648 to "
+     .. "2147483647, not -3e+09"},
+    {"Ke 1e300", "c.mtl:2: 'Ke' needs numbers a float holds (to 3.40282e+38), "
+     .. "not 1e+300"},
+    {"Kd 0.5 -1e39 0", "c.mtl:2: 'Kd' needs numbers a float holds (to "
+     .. "3.40282e+38), not -1e+39"},
+    {"Ks 4e38", "c.mtl:2: 'Ks' needs numbers a float holds"},
+    {"Ka 1 1 1e40", "c.mtl:2: 'Ka' needs numbers a float holds"},
+    {"map_Bump -bm huge b.png", "c.mtl:2: 'map_Bump' needs a finite number after -bm"},
+  }
+  for _, c in ipairs(cases) do
+    T.write(dir .. "/c.mtl", "newmtl x\n" .. c[1] .. "\n")
+    local msg = T.check_error(function() lancer.load_obj(dir .. "/c.obj") end, c[2])
+    assert(msg:find(dir .. "/c.mtl:2:", 1, true), msg)
+  end
+  -- The edges themselves load.
+  T.write(dir .. "/c.mtl", "newmtl x\nillum 2147483647\nKe 3.4e38 0 1e-300\n")
+  local m = lancer.load_obj(dir .. "/c.obj", {textures = false})
+  T.near(m.materials[1].emission[1], 3.4e38, 1e32, "Ke at a float's edge")
+  T.write(dir .. "/c.mtl", "newmtl x\nillum -2147483648\n")
+  T.eq(lancer.load_obj(dir .. "/c.obj").materials[1].kr, 0, "illum at int's low end")
+end)
+
 T.test("lc_mtl_material's mapping: transparency, mirrors, emission, exponents", function()
   local dir = T.temp_dir()
   T.write(dir .. "/m.mtl", [[
