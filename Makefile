@@ -57,7 +57,13 @@ CPPFLAGS += -MMD -MP -Isrc
 ifeq ($(SAN),1)
 # -fno-sanitize-recover: undefined behaviour stops the program, as an ASan
 # report does, so no report scrolls past a test that goes on passing.
-SANITIZE := -fsanitize=address,undefined -fno-sanitize-recover=all
+# GCC's undefined leaves out two checks. float-cast-overflow is added: a
+# floating value converted to an integer type that cannot hold it (illum
+# 1e300 as an int) is undefined, and readers of files and scripts must
+# refuse such values first. float-divide-by-zero is not: the core divides
+# by zero on purpose for IEEE infinities (a ray's inverse direction along
+# an axis it does not move on, shapes/box.c), defined in IEEE arithmetic.
+SANITIZE := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all
 CFLAGS  += $(SANITIZE) -fno-omit-frame-pointer
 LDFLAGS += $(SANITIZE)
 # GCC's shared libubsan beside libasan ignores log_path, so its reports
