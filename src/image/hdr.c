@@ -227,10 +227,18 @@ static void to_float(const unsigned char *rgbe, float *dst, int w)
 static lc_image *read_pixels(hdr_reader *r)
 {
     lc_image *img = lc_image_new(r->w, r->h, r->err);
-    unsigned char *rgbe = mem_alloc(4 * (size_t)r->w);
+    unsigned char *rgbe = img ? mem_alloc(4 * (size_t)r->w) : NULL;
     if (!img || !rgbe) {
         if (img)
-            error_fail(r->err, LC_ENOMEM, NULL, "out of memory reading '%s'", r->path);
+            error_fail(r->err, LC_ENOMEM, NULL, "cannot read '%s': out of memory",
+                       r->path);
+        else if (r->err) {
+            /* lc_image_new's sentence (the cap it met, when one did), with
+            ** the file's name before it. */
+            char why[sizeof r->err->msg];
+            memcpy(why, r->err->msg, sizeof why);
+            error_fail(r->err, r->err->code, NULL, "cannot read '%s': %s", r->path, why);
+        }
         lc_image_free(img);
         mem_free(rgbe);
         return NULL;

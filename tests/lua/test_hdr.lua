@@ -153,3 +153,28 @@ T.test("the truncated file fails at once through the command, in and out of --sa
   end
   os.execute("rm -rf " .. q(dir))
 end)
+
+T.test("a valid file too large for the memory cap is refused by it, naming the file",
+       function()
+  -- 4096x4096 coded (1.1 MB: runs of 127), 201 MB of pixels: past --max-memory 64.
+  local runs = string.rep(char(255, 128), 32) .. char(128 + 32, 128)   -- 128 * 2^-7
+  local line = marker(4096) .. runs .. runs .. runs .. string.rep(char(255, 129), 32)
+               .. char(128 + 32, 129)
+  local dir = T.temp_dir()
+  local f = assert(io.open(dir .. "/big.hdr", "wb"))
+  f:write(HEADER .. "-Y 4096 +X 4096\n" .. string.rep(line, 4096))
+  f:close()
+  T.write(dir .. "/scene.lua", "local lancer = require 'lancer'\n" ..
+          "local img = lancer.load_hdr('big.hdr')\nprint(img:pixel(1, 1))\n")
+  local bin = T.lancer
+  if bin:sub(1, 1) ~= "/" then bin = os.getenv("PWD") .. "/" .. bin end
+  local o, e, code = T.run(("cd %s && %s --max-memory 64 scene.lua"):format(q(dir),
+                                                                           q(bin)))
+  T.check_exit(code, 1, o, e)
+  T.has(e, "cannot read 'big.hdr': out of memory for a 4096x4096 image")
+  T.has(e, "lancer's memory cap is")
+  o, e, code = T.run(("cd %s && %s scene.lua"):format(q(dir), q(bin)))
+  T.check_exit(code, 0, o, e)
+  T.has(o, "1.0\t1.0\t1.0")
+  os.execute("rm -rf " .. q(dir))
+end)
