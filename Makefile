@@ -246,7 +246,7 @@ tsan:
 # The harnesses, each linked with libFuzzer against the instrumented core
 # (and, for lua, the binding) of build/fuzz.
 FUZZ_SECONDS ?= 60
-FUZZERS := obj png lua
+FUZZERS := obj png lua hdr mtl
 fuzz: fuzz-build
 	@sh tests/fuzz/run.sh long build/fuzz $(FUZZ_SECONDS)
 
@@ -266,6 +266,14 @@ $(BUILD)/fuzz_obj: tests/fuzz/obj/fuzz_obj.c $(LIB)
 $(BUILD)/fuzz_png: tests/fuzz/png/fuzz_png.c $(LIB)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) \
 	    $(PNG_LIBS) $(ZLIB_LIBS) $(EXR_LIBS) -lm -pthread
+
+$(BUILD)/fuzz_hdr: tests/fuzz/hdr/fuzz_hdr.c $(LIB)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) $(PNG_LIBS) \
+	    $(EXR_LIBS) -lm -pthread
+
+$(BUILD)/fuzz_mtl: tests/fuzz/mtl/fuzz_mtl.c $(LIB)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) $(PNG_LIBS) \
+	    $(EXR_LIBS) -lm -pthread
 
 $(BUILD)/fuzz_lua: tests/fuzz/lua/fuzz_lua.c $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(LUA_CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< \
