@@ -90,9 +90,6 @@ EXR_CFLAGS := $(addprefix -I,$(shell pkg-config --variable=OpenEXR_includedir Op
 EXR_LIBS   := $(shell pkg-config --exists OpenEXR 2>/dev/null && echo \
                 -L$$(pkg-config --variable=libdir OpenEXR) \
                 -lOpenEXRCore$$(pkg-config --variable=libsuffix OpenEXR))
-# stb_image (Debian's libstb-dev) reads Radiance .hdr skies (src/image/hdr.c).
-STB_CFLAGS := $(shell pkg-config --cflags stb 2>/dev/null)
-STB_LIBS   := $(shell pkg-config --libs stb 2>/dev/null)
 EDIT_CFLAGS := $(shell pkg-config --cflags libedit 2>/dev/null)
 EDIT_LIBS   := $(shell pkg-config --libs libedit 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
@@ -142,7 +139,7 @@ all: $(LIB) $(MODULE) $(BIN) $(BUILD)/lancer-uninstalled.pc
 
 $(BUILD)/obj/%.o: src/%.c
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) $(EXR_CFLAGS) $(STB_CFLAGS) -c $< -o $@
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) $(EXR_CFLAGS) -c $< -o $@
 
 $(BUILD)/obj/lua/%.o: src/lua/%.c
 	@mkdir -p $(@D)
@@ -155,7 +152,7 @@ $(LIB): $(CORE_OBJ)
 # The module links no liblua: the lua5.4 binary exports the Lua API itself.
 $(MODULE): $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	@mkdir -p $(@D)
-	$(CC) -shared $(LDFLAGS) -o $@ $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(PNG_LIBS) $(EXR_LIBS) $(STB_LIBS) -lm -pthread
+	$(CC) -shared $(LDFLAGS) -o $@ $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
 
 # The host embeds lua/lancer/*.lua so it runs from anywhere.
 $(BUILD)/gen/lua_embedded.c: $(LUA_FILES) tools/embed-lua.sh
@@ -171,18 +168,18 @@ $(BUILD)/obj/lua_embedded.o: $(BUILD)/gen/lua_embedded.c
 
 $(BIN): $(HOST_OBJ) $(BUILD)/obj/lua_embedded.o $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(LDFLAGS) $(EXE_LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EXR_LIBS) $(STB_LIBS) $(EDIT_LIBS) \
+	$(CC) $(LDFLAGS) $(EXE_LDFLAGS) -o $@ $^ $(LUA_LIBS) $(PNG_LIBS) $(EXR_LIBS) $(EDIT_LIBS) \
 	    -lm -pthread
 
 $(BUILD)/tests/%: tests/c/%.c $(LIB)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXR_CFLAGS) $(EXE_LDFLAGS) -Isrc -o $@ $< $(LIB) $(CMOCKA_LIBS) \
 	    $(PNG_LIBS) \
-	    $(EXR_LIBS) $(STB_LIBS) -lm -pthread
+	    $(EXR_LIBS) -lm -pthread
 
 # What a program linking the core needs; only a static library is built, so
 # the libraries it uses are in Libs, not Libs.private.
-LINK_LIBS = $(PNG_LIBS) $(EXR_LIBS) $(STB_LIBS) -lm -pthread
+LINK_LIBS = $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
 
 # For programs built against the build tree:
 #   cc prog.c $$(PKG_CONFIG_PATH=build pkg-config --cflags --libs lancer)
@@ -255,7 +252,7 @@ tsan:
 # The harnesses, each linked with libFuzzer against the instrumented core
 # (and, for lua, the binding) of build/fuzz.
 FUZZ_SECONDS ?= 60
-FUZZERS := obj png lua exr
+FUZZERS := obj png lua exr hdr mtl
 fuzz: fuzz-build
 	@sh tests/fuzz/run.sh long build/fuzz $(FUZZ_SECONDS)
 
@@ -270,11 +267,19 @@ fuzzers: $(FUZZERS:%=$(BUILD)/fuzz_%)
 
 $(BUILD)/fuzz_obj: tests/fuzz/obj/fuzz_obj.c $(LIB)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) $(PNG_LIBS) \
-	    $(EXR_LIBS) $(STB_LIBS) -lm -pthread
+	    $(EXR_LIBS) -lm -pthread
 
 $(BUILD)/fuzz_png: tests/fuzz/png/fuzz_png.c $(LIB)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(PNG_CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) \
-	    $(PNG_LIBS) $(ZLIB_LIBS) $(EXR_LIBS) $(STB_LIBS) -lm -pthread
+	    $(PNG_LIBS) $(ZLIB_LIBS) $(EXR_LIBS) -lm -pthread
+
+$(BUILD)/fuzz_hdr: tests/fuzz/hdr/fuzz_hdr.c $(LIB)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) $(PNG_LIBS) \
+	    $(EXR_LIBS) -lm -pthread
+
+$(BUILD)/fuzz_mtl: tests/fuzz/mtl/fuzz_mtl.c $(LIB)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) $(PNG_LIBS) \
+	    $(EXR_LIBS) -lm -pthread
 
 $(BUILD)/fuzz_exr: tests/fuzz/exr/fuzz_exr.c $(LIB)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXR_CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< $(LIB) \
@@ -282,7 +287,7 @@ $(BUILD)/fuzz_exr: tests/fuzz/exr/fuzz_exr.c $(LIB)
 
 $(BUILD)/fuzz_lua: tests/fuzz/lua/fuzz_lua.c $(LUA_OBJ) $(HELPER_OBJ) $(LIB)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(LUA_CFLAGS) -fsanitize=fuzzer -Isrc -o $@ $< \
-	    $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(LUA_LIBS) $(PNG_LIBS) $(EXR_LIBS) $(STB_LIBS) -lm -pthread
+	    $(LUA_OBJ) $(HELPER_OBJ) $(LIB) $(LUA_LIBS) $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
 endif
 
 # The peers' files and images land in out/bench/ (tools/bench/), the report
@@ -299,7 +304,7 @@ bench: all $(BUILD)/bin/lc-runstat
 # The Embree peer (tools/bench/embree.lua): bench only, never in lancer.
 $(BUILD)/bin/lc-raycast: tools/bench/raycast.c $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(CFLAGS) -std=c11 -Isrc $(LDFLAGS) -o $@ $< $(LIB) -lembree3 $(PNG_LIBS) $(EXR_LIBS) $(STB_LIBS) -lm -pthread
+	$(CC) $(CFLAGS) -std=c11 -Isrc $(LDFLAGS) -o $@ $< $(LIB) -lembree3 $(PNG_LIBS) $(EXR_LIBS) -lm -pthread
 
 $(BUILD)/bin/lc-runstat: tools/runstat.c
 	@mkdir -p $(@D)

@@ -830,9 +830,12 @@ void      lc_save_abandon(void);
 ** LC_MAX_SIDE or LC_MAX_PIXELS are refused, naming the cap. */
 lc_image *lc_image_load_png(const char *path, lc_encoding enc, lc_error *err);
 
-/* Reads a Radiance .hdr (RGBE) image, linear floats as stored (through
-** stb_image). Sizes past LC_MAX_SIDE or LC_MAX_PIXELS, NaN or infinite
-** values are refused, naming the file. */
+/* Reads a Radiance .hdr (RGBE) image, linear floats as stored (FORMAT=
+** 32-bit_rle_rgbe, -Y height +X width; flat or run-length coded scanlines).
+** Every count is checked: sizes past LC_MAX_SIDE or LC_MAX_PIXELS, a file
+** shorter than its size needs, a run of length 0 or past its scanline, data
+** ending early are refused, naming the file and the scanline, before the
+** pixels' memory is asked for where the header alone tells. */
 lc_image *lc_image_load_hdr(const char *path, lc_error *err);
 
 /* An image may carry an alpha channel (a render with alpha, a file with one):

@@ -6,8 +6,7 @@
 set -eu
 
 # libopenexr-dev: EXR output and input through OpenEXRCore, its C library (src/image/exr.c).
-# libstb-dev: Radiance .hdr skies through stb_image (src/image/hdr.c).
-build_pkgs="gcc make pkg-config lua5.4 liblua5.4-dev libpng-dev libedit-dev libopenexr-dev libstb-dev"
+build_pkgs="gcc make pkg-config lua5.4 liblua5.4-dev libpng-dev libedit-dev libopenexr-dev"
 # parallel: tests/lua/test_farm.lua splits an animation over GNU parallel workers.
 # clang, libclang-rt-dev: the fuzzers' smoke run (tests/fuzz/); clang links
 # libFuzzer and its sanitizers only with the compiler-rt libraries, which

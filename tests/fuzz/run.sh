@@ -22,7 +22,7 @@ set -u
 mode=${1:?usage: run.sh smoke DIR | long DIR SECONDS [HARNESS...] | sig FILE}
 dir=${2:-build/fuzz}
 here=tests/fuzz
-harnesses="obj png lua exr"
+harnesses="obj png lua exr hdr mtl"
 # UBSan's reports stop the harness (-fno-sanitize-recover) with a stack.
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
 
@@ -53,6 +53,8 @@ smoke_runs() {
         png) echo 20000 ;;
         lua) echo 1000 ;;
         exr) echo 10000 ;;
+        hdr) echo 20000 ;;
+        mtl) echo 10000 ;;
     esac
 }
 
