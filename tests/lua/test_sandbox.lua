@@ -445,6 +445,59 @@ T.test("memory cap: a huge image or mesh from the core fails, naming the cap", f
   cleanup(dir)
 end)
 
+-- PNG's CRC-32 (ISO 3309), for a header written by hand.
+local function crc32(s)
+  local c = 0xffffffff
+  for i = 1, #s do
+    c = c ~ s:byte(i)
+    for _ = 1, 8 do c = (c >> 1) ~ (0xedb88320 & -(c & 1)) end
+  end
+  return c ~ 0xffffffff
+end
+
+-- A 141-byte PNG whose header claims w x h: a 2x1 one's, its IHDR rewritten.
+local function claiming_png(path, w, h)
+  local small = path .. ".small.png"
+  require("lancer").image{width = 2, height = 1}:save(small)
+  local png = T.slurp(small)
+  os.remove(small)
+  local ihdr = "IHDR" .. string.pack(">I4I4", w, h) .. png:sub(25, 29)
+  T.write(path, png:sub(1, 12) .. ihdr .. string.pack(">I4", crc32(ihdr)) .. png:sub(34))
+end
+
+-- The header's size meets the core's counted allocations (the image, then
+-- the rows) before libpng reads a row: a 16000x16000 claim (3 GB of floats)
+-- is refused with the cap's message, in a process whose address space is
+-- held to 100 MB, so that the system could not have given it either.
+T.test("memory cap: a PNG whose header claims a huge size is refused first", function()
+  local dir = layout()
+  claiming_png(dir .. "/scene/huge.png", 16000, 16000)
+  local script = [[
+local lancer = require "lancer"
+print(pcall(lancer.load_png, "scene/huge.png"))
+print(pcall(lancer.image_texture, {path = "scene/huge.png"}))
+]]
+  local o, e, code = run(dir, "--sandbox --max-memory 64", script)
+  T.check_exit(code, 0, o, e)
+  local cap = "out of memory for a 16000x16000 image (lancer's memory cap is 63."
+  T.has(o, "false\tbad argument #1 to 'lancer.load_png' (" .. cap)
+  T.has(o, "false\tbad argument #1 to 'lancer.image_texture' (field 'path': " .. cap)
+  -- A sanitized build reserves terabytes of shadow memory: no ulimit there.
+  local build = LANCER:gsub("/bin/lancer$", "")
+  if os.execute(("nm %s 2>/dev/null | grep -q __asan_"):format(
+      q(build .. "/liblancer.a"))) then
+    cleanup(dir)
+    return
+  end
+  T.write(dir .. "/scene/scene.lua", script)
+  o, e, code = T.run(("cd %s && ulimit -v 102400 && %s --sandbox --max-memory 64 " ..
+                      "scene/scene.lua"):format(q(dir), q(LANCER)))
+  T.check_exit(code, 0, o, e)
+  local _, n = o:gsub(cap:gsub("%p", "%%%0"), "")
+  T.eq(n, 2, "both refused by the cap within 100 MB of address space:\n" .. o)
+  cleanup(dir)
+end)
+
 T.test("time cap: a Lua loop stops, with pcall, coroutines or __gc around it", function()
   local dir = layout()
   for _, script in ipairs{
