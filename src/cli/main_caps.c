@@ -320,9 +320,10 @@ int caps_close(lua_State *L)
         return 0;
     }
     if (c->watching) {
-        /* The finalizers lua_close runs still meet the time cap, through a
-        ** hook set now: the signal handler must not touch a state that
-        ** lua_close frees. */
+        /* What lua_close runs still meets the time cap through a hook set
+        ** now (the signal handler must not touch a state that lua_close
+        ** frees), but for finalizers: Lua runs them without hooks, so a
+        ** loop in one meets stuck(), as C code does (docs/manual.md). */
         lua_sethook(L, caps_hook, LUA_MASKCOUNT, caps_expired(L) ? 1 : HOOK_COUNT);
         watched = NULL;
     }

@@ -175,8 +175,8 @@ static int refuse_fail(lua_State *L, const char *path, int writing)
     return 3;
 }
 
-/* io.open, lancer.load_obj, lancer.load_png, lancer.load_exr, io.lines, io.input: argument 1,
-** when a name, is a file to read (io.open: or write, by its mode). */
+/* io.open, and the loaders, io.lines and io.input (fs_functions): argument
+** 1, when a name, is a file to read (io.open: or write, by its mode). */
 static int w_io_open(lua_State *L)
 {
     const char *path = luaL_checkstring(L, 1);
@@ -348,14 +348,14 @@ static int searcher_text(lua_State *L)
     return 2;
 }
 
-/* load, loadfile and dofile, text only; pol: the policy's index (paths
-** checked) or 0. */
-static void chunks(lua_State *L, int pol)
+/* load, loadfile and dofile, text only, paths unchecked (a sealed state
+** wraps loadfile and dofile through fs_functions, with its policy). */
+static void chunks(lua_State *L)
 {
     lua_pushglobaltable(L);
-    wrap(L, -1, "load", w_load, pol);
-    wrap(L, -1, "loadfile", w_loadfile, pol);
-    wrap(L, -1, "dofile", w_dofile, pol);     /* its original is only a name */
+    wrap(L, -1, "load", w_load, 0);
+    wrap(L, -1, "loadfile", w_loadfile, 0);
+    wrap(L, -1, "dofile", w_dofile, 0);       /* its original is only a name */
     lua_pop(L, 1);
 }
 
@@ -371,7 +371,7 @@ static void push_searcher(lua_State *L, int package, int pol)
 
 void sandbox_text_only(lua_State *L)
 {
-    chunks(L, 0);
+    chunks(L);
     luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
     lua_getfield(L, -1, LUA_LOADLIBNAME);
     lua_getfield(L, -1, "searchers");
@@ -553,12 +553,53 @@ static void replace_everywhere(lua_State *L, int core, const char *name)
     lua_settop(L, top - 1);
 }
 
-/* lancer.core's loader name, checked, wherever a scene can reach it. */
-static void wrap_loader(lua_State *L, int core, const char *name, int pol)
+/* Every function of a sealed state that opens a path a scene names, with
+** the wrapper that checks it: the seal wraps what this list holds, so a new
+** reader or writer (a loader of another format, say) is one row here, and
+** tests/lua/test_sandbox_walk.lua, which calls every function a scene can
+** reach with a path outside the folders, fails while it is missing. The
+** files the binding opens on its own (an image texture's path, an OBJ's
+** libraries and their maps) meet the file gate instead, and img:save the
+** host hook: see seal_core. */
+enum fs_table { FS_CORE, FS_GLOBALS, FS_IO, FS_OS };
+
+static const struct fs_function {
+    enum fs_table in;
+    const char *name;
+    lua_CFunction check;
+} fs_functions[] = {
+    {FS_CORE, "load_obj", w_read_arg},    {FS_CORE, "load_png", w_read_arg},
+    {FS_CORE, "load_exr", w_read_arg},    {FS_CORE, "load_hdr", w_read_arg},
+    {FS_CORE, "merge_tiles", w_merge_args},
+    {FS_GLOBALS, "loadfile", w_loadfile}, {FS_GLOBALS, "dofile", w_dofile},
+    {FS_IO, "open", w_io_open},           {FS_IO, "lines", w_read_arg},
+    {FS_IO, "input", w_read_arg},         {FS_IO, "output", w_write_arg},
+    {FS_OS, "remove", w_os_remove},       {FS_OS, "rename", w_os_rename},
+};
+
+/* Wraps each of fs_functions where a scene can reach it: lancer.core's
+** wherever it is lent (replace_everywhere). A name the state lacks is an
+** error, so that the list cannot go stale. */
+static void seal_files(lua_State *L, int core, int G, int loaded, int P)
 {
-    lua_getfield(L, core, name);
-    push_wrapper(L, w_read_arg, pol);
-    replace_everywhere(L, core, name);
+    size_t i;
+    for (i = 0; i < sizeof fs_functions / sizeof *fs_functions; i++) {
+        const struct fs_function *f = &fs_functions[i];
+        int t = f->in == FS_CORE ? core : f->in == FS_GLOBALS ? G : 0;
+        if (t == 0)
+            lua_getfield(L, loaded, f->in == FS_IO ? LUA_IOLIBNAME : LUA_OSLIBNAME);
+        else
+            lua_pushvalue(L, t);
+        if (lua_getfield(L, -1, f->name) != LUA_TFUNCTION)
+            luaL_error(L, "sandbox: cannot seal '%s': no such function", f->name);
+        push_wrapper(L, f->check, P);
+        if (f->in == FS_CORE) {
+            replace_everywhere(L, core, f->name);
+        } else {
+            lua_setfield(L, -2, f->name);
+        }
+        lua_pop(L, 1);
+    }
 }
 
 static void resolve_dir(lua_State *L, const char *dir, char out[PATH_MAX],
@@ -592,16 +633,12 @@ void sandbox_openlibs(lua_State *L)
 static const char RUNS[] = "a sandboxed scene runs no programs";
 static const char NOTVERIFIED[] = "Lua does not verify binary chunks";
 
-/* lancer.core: the hook around the command's; checked loaders; and no
-** set_host_hook, which would take the hook away. P: the policy's index. */
-static void seal_core(lua_State *L, int P)
+/* lancer.core, at core: the hook around the command's (img:save checked);
+** the binding's file gate; and no set_host_hook, which would take the hook
+** away. P: the policy's index. */
+static void seal_core(lua_State *L, int core, int P)
 {
-    luaL_requiref(L, "lancer.core", luaopen_lancer_core, 0);
-    int core = lua_gettop(L);
     install_hook(L, core, P);
-    wrap_loader(L, core, "load_obj", P);
-    wrap_loader(L, core, "load_png", P);
-    wrap_loader(L, core, "load_exr", P);
     lua_pushnil(L);                   /* upvalue 1: no original; 2: the policy */
     if (P)
         lua_pushvalue(L, P);
@@ -609,12 +646,8 @@ static void seal_core(lua_State *L, int P)
         lua_pushnil(L);
     lua_pushcclosure(L, w_file_gate, 2);
     lua_setfield(L, LUA_REGISTRYINDEX, "lancer.file_gate");
-    lua_getfield(L, core, "merge_tiles");
-    push_wrapper(L, w_merge_args, P);
-    replace_everywhere(L, core, "merge_tiles");
     lua_pushnil(L);
     replace_everywhere(L, core, "set_host_hook");
-    lua_settop(L, core - 1);
 }
 
 /* require: lancer's modules only, from package.preload or lua_path; the
@@ -654,9 +687,9 @@ static void seal_package(lua_State *L, int G, int package, const char *lua_path,
 }
 
 /* debug gone, and what of string, os and io runs programs, leaves the
-** folders or reaches the process refused or checked. loaded: the index of
-** package.loaded. */
-static void seal_libs(lua_State *L, int G, int loaded, int P)
+** folders or reaches the process refused (their files: fs_functions).
+** loaded: the index of package.loaded. */
+static void seal_libs(lua_State *L, int G, int loaded)
 {
     /* debug: gone from the state; the name answers with a refusal. */
     lua_pushnil(L);
@@ -678,17 +711,11 @@ static void seal_libs(lua_State *L, int G, int loaded, int P)
     refuse(L, -1, "getenv", "os.getenv", "the environment may hold secrets");
     refuse(L, -1, "tmpname", "os.tmpname", "it makes a file outside the output folder");
     refuse(L, -1, "setlocale", "os.setlocale", "it changes the whole process");
-    wrap(L, -1, "remove", w_os_remove, P);
-    wrap(L, -1, "rename", w_os_rename, P);
     lua_pop(L, 1);
 
     lua_getfield(L, loaded, LUA_IOLIBNAME);
     refuse(L, -1, "popen", "io.popen", RUNS);
     refuse(L, -1, "tmpfile", "io.tmpfile", "it makes a file outside the output folder");
-    wrap(L, -1, "open", w_io_open, P);
-    wrap(L, -1, "lines", w_read_arg, P);
-    wrap(L, -1, "input", w_read_arg, P);
-    wrap(L, -1, "output", w_write_arg, P);
     lua_pop(L, 1);
 }
 
@@ -700,15 +727,18 @@ int sandbox_seal(lua_State *L)
     resolve_dir(L, p->read_dir, pol->read, "the scene's folder");
     resolve_dir(L, p->write_dir, pol->write, "the output folder");
     pol->no_write = p->no_write ? p->no_write : "no output folder was given";
-    seal_core(L, P);
-    chunks(L, P);
+    luaL_requiref(L, "lancer.core", luaopen_lancer_core, 0);
+    int core = lua_gettop(L);
+    seal_core(L, core, P);
     lua_pushglobaltable(L);
     int G = lua_gettop(L);
+    wrap(L, G, "load", w_load, P);            /* text only; it opens no file */
     luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
     int loaded = lua_gettop(L);
+    seal_files(L, core, G, loaded, P);
     lua_getfield(L, loaded, LUA_LOADLIBNAME);
     seal_package(L, G, lua_gettop(L), p->lua_path, P);
-    seal_libs(L, G, loaded, P);
+    seal_libs(L, G, loaded);
     return 0;
 }
 

@@ -45,6 +45,10 @@ end
 
 local function cleanup(dir) os.execute("rm -rf " .. q(dir)) end
 
+local function have_timeout()
+  return os.execute("command -v timeout >/dev/null 2>&1") == true
+end
+
 -- The probe every escape script starts with: one line per attempt,
 -- "NAME REFUSED message" or "NAME ALLOWED value".
 local PROBE = [[
@@ -445,7 +449,60 @@ T.test("memory cap: a huge image or mesh from the core fails, naming the cap", f
   cleanup(dir)
 end)
 
-T.test("time cap: a Lua loop stops, with pcall, coroutines or __gc around it", function()
+-- PNG's CRC-32 (ISO 3309), for a header written by hand.
+local function crc32(s)
+  local c = 0xffffffff
+  for i = 1, #s do
+    c = c ~ s:byte(i)
+    for _ = 1, 8 do c = (c >> 1) ~ (0xedb88320 & -(c & 1)) end
+  end
+  return c ~ 0xffffffff
+end
+
+-- A 141-byte PNG whose header claims w x h: a 2x1 one's, its IHDR rewritten.
+local function claiming_png(path, w, h)
+  local small = path .. ".small.png"
+  require("lancer").image{width = 2, height = 1}:save(small)
+  local png = T.slurp(small)
+  os.remove(small)
+  local ihdr = "IHDR" .. string.pack(">I4I4", w, h) .. png:sub(25, 29)
+  T.write(path, png:sub(1, 12) .. ihdr .. string.pack(">I4", crc32(ihdr)) .. png:sub(34))
+end
+
+-- The header's size meets the core's counted allocations (the image, then
+-- the rows) before libpng reads a row: a 16000x16000 claim (3 GB of floats)
+-- is refused with the cap's message, in a process whose address space is
+-- held to 100 MB, so that the system could not have given it either.
+T.test("memory cap: a PNG whose header claims a huge size is refused first", function()
+  local dir = layout()
+  claiming_png(dir .. "/scene/huge.png", 16000, 16000)
+  local script = [[
+local lancer = require "lancer"
+print(pcall(lancer.load_png, "scene/huge.png"))
+print(pcall(lancer.image_texture, {path = "scene/huge.png"}))
+]]
+  local o, e, code = run(dir, "--sandbox --max-memory 64", script)
+  T.check_exit(code, 0, o, e)
+  local cap = "out of memory for a 16000x16000 image (lancer's memory cap is 63."
+  T.has(o, "false\tbad argument #1 to 'lancer.load_png' (" .. cap)
+  T.has(o, "false\tbad argument #1 to 'lancer.image_texture' (field 'path': " .. cap)
+  -- A sanitized build reserves terabytes of shadow memory: no ulimit there.
+  local build = LANCER:gsub("/bin/lancer$", "")
+  if os.execute(("nm %s 2>/dev/null | grep -q __asan_"):format(
+      q(build .. "/liblancer.a"))) then
+    cleanup(dir)
+    return
+  end
+  T.write(dir .. "/scene/scene.lua", script)
+  o, e, code = T.run(("cd %s && ulimit -v 102400 && %s --sandbox --max-memory 64 " ..
+                      "scene/scene.lua"):format(q(dir), q(LANCER)))
+  T.check_exit(code, 0, o, e)
+  local _, n = o:gsub(cap:gsub("%p", "%%%0"), "")
+  T.eq(n, 2, "both refused by the cap within 100 MB of address space:\n" .. o)
+  cleanup(dir)
+end)
+
+T.test("time cap: a Lua loop stops, with pcall, coroutines or xpcall around it", function()
   local dir = layout()
   for _, script in ipairs{
     "local n = 0\nwhile true do n = n + 1 end",
@@ -453,7 +510,6 @@ T.test("time cap: a Lua loop stops, with pcall, coroutines or __gc around it", f
     "local co = coroutine.wrap(function() while true do end end)\n" ..
     "while true do pcall(co) end",
     "local function spin() while true do end end\nwhile true do xpcall(spin, spin) end",
-    "setmetatable({}, {__gc = function() while true do end end}) collectgarbage()",
   } do
     local o, e, code, secs = run(dir, "--sandbox --max-seconds 0.5", script)
     T.check_exit(code, 4, o, e)
@@ -466,6 +522,41 @@ T.test("time cap: a Lua loop stops, with pcall, coroutines or __gc around it", f
   T.check_exit(code, 4, o, e)
   T.has(e, "lancer: scene/scene.lua:2: time cap reached (lancer's time cap is 0.3 s)")
   cleanup(dir)
+end)
+
+-- Lua runs finalizers without hooks: a loop in __gc is not stopped by the
+-- time cap but, as C code, by the watchdog 1 s past it (docs/manual.md,
+-- "Untrusted scenes: the sandbox"), whether the collector runs it during
+-- the script, at its end, or after the cap stopped the script. timeout
+-- keeps a watchdog that failed from hanging the suite.
+T.test("time cap: a loop in a __gc finalizer ends the process 1 s past the cap",
+       function()
+  local dir = layout()
+  local gc = "setmetatable({}, {__gc = function() while true do end end})"
+  local limit = have_timeout() and "timeout 10 " or ""
+  for _, script in ipairs{gc .. " collectgarbage() print('not reached')", gc,
+                          gc .. "\nwhile true do end"} do
+    T.write(dir .. "/scene/scene.lua", script)
+    local t0 = now()
+    local o, e, code = T.run(("cd %s && %s%s --sandbox --max-seconds 0.5 " ..
+                              "scene/scene.lua"):format(q(dir), limit, q(LANCER)))
+    local secs = now() - t0
+    T.check_exit(code, 4, o, e)
+    T.has(e, "lancer: time cap reached (lancer's time cap is 0.5 s), in code that " ..
+             "cannot be stopped: ending the process", script)
+    T.eq(o, "", script .. ": stdout")
+    assert(secs > 1.3 and secs < 3, ("%q ended after %.2f s"):format(script, secs))
+  end
+  cleanup(dir)
+  -- The manual says so, in these words.
+  local manual = T.slurp(ROOT .. "/docs/manual.md")
+  local section = manual:match("\n## Untrusted scenes: the sandbox\n(.-)\n## ")
+  assert(section, "no sandbox section in docs/manual.md")
+  section = section:gsub("%s+", " ")
+  T.has(section, "a loop in a finalizer (a `__gc` metamethod)", "the manual")
+  T.has(section, "1 s past the cap lancer ends the process, with exit 4 and the line " ..
+                 "`lancer: time cap reached (lancer's time cap is 0.5 s), in code that " ..
+                 "cannot be stopped: ending the process`", "the manual")
 end)
 
 local LONG_RENDER = [[

@@ -1,0 +1,1 @@
+print(pcall(require("lancer").load_png, "big.png"))
