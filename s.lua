@@ -1,1 +1,0 @@
-print(pcall(require("lancer").load_png, "big.png"))
