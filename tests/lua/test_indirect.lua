@@ -314,7 +314,8 @@ end)
 
 -- ---- HDR skies -----------------------------------------------------------------
 
--- A w x h Radiance file of flat RGBE scanlines (stb reads them when w < 8).
+-- A w x h Radiance file of flat RGBE scanlines (as a file narrower than 8
+-- pixels always is: src/image/hdr.c reads both kinds).
 local function write_hdr(path, w, h, texel)
   local f = assert(io.open(path, "wb"))
   f:write(("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n"):format(h, w))
