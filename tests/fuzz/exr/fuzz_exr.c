@@ -7,27 +7,20 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
-#include <unistd.h>
 #include "lancer.h"
+#include "../memfile.h"
 #include "base/mem.h"
 #include "image/raster.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static int fd = -1;
-static char path[64];
+static memfile in;
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
     (void)argc, (void)argv;
-    fd = memfd_create("fuzz.exr", 0);
-    if (fd < 0) {
-        perror("memfd_create");
-        abort();
-    }
-    snprintf(path, sizeof path, "/proc/self/fd/%d", fd);
+    memfile_open(&in, "fuzz.exr");
     /* A header may claim 2^28 pixels: the cap refuses the image as
     ** LC_ENOMEM, a path worth reaching, before libFuzzer's malloc limit. */
     lc_memory_cap((size_t)64 << 20);
@@ -36,8 +29,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    if (ftruncate(fd, 0) || pwrite(fd, data, size, 0) != (ssize_t)size)
-        abort();
+    memfile_put(&in, data, size);
     const char *save = getenv("FUZZ_EXR_SAVE");
     if (save) {
         FILE *fp = fopen(save, "wb");
@@ -47,7 +39,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
     }
     lc_error err;
-    lc_image *img = lc_image_load_exr(path, &err);
+    lc_image *img = lc_image_load_exr(in.path, &err);
     if (img) {
         /* Every sample read is the file's: touching them all lets ASan
         ** see a pixel buffer written short. */
@@ -59,13 +51,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
         (void)sum;
         lc_image_free(img);
-    } else if (!strstr(err.msg, path) && err.code != LC_ENOMEM) {
+    } else if (!strstr(err.msg, in.path) && err.code != LC_ENOMEM) {
         fprintf(stderr, "an error that does not name the file: %s\n", err.msg);
         abort();
     }
     raster_format f;
     unsigned char *samples = NULL;
-    if (exr_read_raster(path, &f, &samples, &err) == LC_OK)
+    if (exr_read_raster(in.path, &f, &samples, &err) == LC_OK)
         mem_free(samples);
     return 0;
 }

@@ -7,27 +7,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
-#include <unistd.h>
 #include "lancer.h"
+#include "../memfile.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static int fd = -1;
-static char path[64];
+static memfile in;
 
-/* The reader takes a path: the input goes to an in-memory file, opened by
-** its /proc name, so no execution touches the disk. */
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
     (void)argc, (void)argv;
-    fd = memfd_create("fuzz.hdr", 0);
-    if (fd < 0) {
-        perror("memfd_create");
-        abort();
-    }
-    snprintf(path, sizeof path, "/proc/self/fd/%d", fd);
+    memfile_open(&in, "fuzz.hdr");
     /* A header claiming a huge image that the file could hold is refused as
     ** LC_ENOMEM, a path the harness means to reach. */
     lc_memory_cap((size_t)256 << 20);
@@ -36,10 +27,9 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    if (ftruncate(fd, 0) || pwrite(fd, data, size, 0) != (ssize_t)size)
-        abort();
+    memfile_put(&in, data, size);
     lc_error err;
-    lc_image *img = lc_image_load_hdr(path, &err);
+    lc_image *img = lc_image_load_hdr(in.path, &err);
     if (!img) {
         /* A failure must say why, naming the file. */
         if (err.code == LC_OK || !memchr(err.msg, '\0', sizeof err.msg) ||

@@ -6,27 +6,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
-#include <unistd.h>
 #include "lancer.h"
+#include "../memfile.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static int fd = -1;
-static char path[64];
+static memfile in;
 
-/* The reader takes a path: the input goes to an in-memory file, opened by
-** its /proc name, so no execution touches the disk. */
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
     (void)argc, (void)argv;
-    fd = memfd_create("fuzz.obj", 0);
-    if (fd < 0) {
-        perror("memfd_create");
-        abort();
-    }
-    snprintf(path, sizeof path, "/proc/self/fd/%d", fd);
+    memfile_open(&in, "fuzz.obj");
     /* What a huge face list would take is refused as LC_ENOMEM, a path the
     ** harness means to reach, before libFuzzer's own malloc limit. */
     lc_memory_cap((size_t)256 << 20);
@@ -57,10 +48,9 @@ static void render(lc_scene *s)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    if (ftruncate(fd, 0) || pwrite(fd, data, size, 0) != (ssize_t)size)
-        abort();
+    memfile_put(&in, data, size);
     lc_error err;
-    lc_mesh *m = lc_mesh_load_obj(path, &err);
+    lc_mesh *m = lc_mesh_load_obj(in.path, &err);
     if (!m) {
         check_failure(&err);
         return 0;

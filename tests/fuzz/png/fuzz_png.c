@@ -9,26 +9,19 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
-#include <unistd.h>
 #include <zlib.h>
 #include "lancer.h"
+#include "../memfile.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static int fd = -1;
-static char path[64];
+static memfile in;
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
     (void)argc, (void)argv;
-    fd = memfd_create("fuzz.png", 0);
-    if (fd < 0) {
-        perror("memfd_create");
-        abort();
-    }
-    snprintf(path, sizeof path, "/proc/self/fd/%d", fd);
+    memfile_open(&in, "fuzz.png");
     /* A header may ask for 2^28 pixels (3 GiB): the cap refuses it as
     ** LC_ENOMEM, a path worth reaching, before libFuzzer's malloc limit. */
     lc_memory_cap((size_t)64 << 20);
@@ -94,8 +87,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         abort();
     memcpy(buf, data, size);
     fix_crcs(buf, size);
-    if (ftruncate(fd, 0) || pwrite(fd, buf, size, 0) != (ssize_t)size)
-        abort();
+    memfile_put(&in, buf, size);
     /* FUZZ_PNG_SAVE=FILE: the file as read, CRCs fixed, to try elsewhere. */
     const char *save = getenv("FUZZ_PNG_SAVE");
     FILE *f = save ? fopen(save, "wb") : NULL;
@@ -106,7 +98,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     const lc_encoding enc[2] = {LC_ENCODE_SRGB, LC_ENCODE_LINEAR};
     for (int i = 0; i < 2; i++) {
         lc_error err;
-        img[i] = lc_image_load_png(path, enc[i], &err);
+        img[i] = lc_image_load_png(in.path, enc[i], &err);
         if (img[i])
             check_image(img[i]);
         else
